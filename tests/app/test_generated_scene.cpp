@@ -2,12 +2,12 @@
 // (issue 4): N maps for N periods that load back as written, and a report that
 // lists the furniture with its class near the truth.
 //
-// Known gap (issue 4 stays open on it): with the calibrated noise, merges of
-// touching objects and splits in the input survive in the map as merged or
-// fragmented instances, so most furniture centroids are 0.14-0.35 m off (one
-// voxel is 0.10 m; with perfect labels they are 0.04-0.06 m, see
-// PndtMapCli.WritesOneMapPerPeriod...). This test pins the current behaviour so
-// a change in either direction shows.
+// Measured (doc/design-decisions.md "Instances keep one class"): 4 of the 6
+// large pieces of furniture within one voxel (0.10 m); table 0.14 and one
+// cabinet 0.22 m, whose parts the network only ever labels as another class with
+// low confidence, so the map leaves them unlabelled (issue 4 stays open on it).
+// With the paper's rules alone it was 0 of 6 (merged chair + rug, TV + cabinet).
+// This test pins the current behaviour so a change in either direction shows.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <pndt/data/dataset.h>
@@ -98,9 +98,9 @@ TEST(GeneratedScene, NoisySegmentationShortTermMapsAndFurnitureReport)
         ++checked;
         found += best < 0.10;
         // Every piece of furniture is in the report with its class, near its truth.
-        EXPECT_LT(best, 0.40) << name << " " << z << " truth " << truth.transpose() << "\n" << inst.dump(1);
+        EXPECT_LT(best, 0.25) << name << " " << z << " truth " << truth.transpose() << "\n" << inst.dump(1);
     }
     EXPECT_GE(checked, 5) << "the default scene has six large pieces of furniture";
     std::printf("[measured] furniture within one voxel (0.10 m): %d of %d\n", found, checked);
-    EXPECT_GE(found, 1);
+    EXPECT_GE(found, 4);
 }

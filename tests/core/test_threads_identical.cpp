@@ -75,6 +75,7 @@ void expectIdentical(const Built& a, const Built& b)
     ASSERT_EQ(x.voxels().size(), y.voxels().size());
     EXPECT_EQ(x.voxels().packedKeys(), y.voxels().packedKeys());
     EXPECT_EQ(0, std::memcmp(x.voxels().voxels().data(), y.voxels().voxels().data(), sizeof(Voxel) * x.voxels().size()));
+    EXPECT_EQ(x.pairEvidence(), y.pairEvidence());
     ASSERT_EQ(x.surfaceRecords().size(), y.surfaceRecords().size());
     EXPECT_EQ(0, std::memcmp(x.surfaceRecords().data(), y.surfaceRecords().data(),
                              sizeof(SurfaceRecord) * x.surfaceRecords().size()));
@@ -169,6 +170,7 @@ TEST(ThreadsIdentical, ThreadsCanChangeBetweenFrames)
     b.map = PanopticMap(o);
     b.map.restore(a.map.voxels().packedKeys(), a.map.voxels().voxels(), a.map.surfaceRecords(), a.map.labelRecords(),
                   a.map.instanceRecords(), a.map.nextInstanceId());
+    b.map.restorePairEvidence(a.map.pairEvidence());
     b.totals = a.totals;
     for (size_t i = 3; i < d.frames.size(); ++i)
     {

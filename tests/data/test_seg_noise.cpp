@@ -373,6 +373,39 @@ TEST(SegNoise, ScoresAreHigherWhereThePredictionIsRight)
     EXPECT_GT(auc, 0.75);
 }
 
+TEST(SegNoise, GroupingErrorsLowerThePanopticScoreNotTheSemanticOne)
+{
+    // A network's class confidence does not drop because its instance step split an
+    // object or merged it with a neighbour: right-class pixels of split / merged
+    // objects keep S^L like untouched ones; their S^P (instance confidence) drops.
+    const Walk& w = denseWalk();
+    const SegmentationNoiseModel m(w.objects, SegNoiseOptions{});
+    double sl_clean = 0, sp_clean = 0, n_clean = 0, sl_group = 0, sp_group = 0, n_group = 0;
+    for (size_t i = 0; i < w.views.size(); i += 5)
+    {
+        const SegNoiseFrame f = w.apply(m, i);
+        std::map<uint32_t, const InstanceOutcome*> by_gt;
+        for (const auto& o : f.outcomes) by_gt[o.gt_instance] = &o;
+        const auto& gt_i = w.views[i].r.instance;
+        const auto& gt_s = w.views[i].r.semantic;
+        for (size_t p = 0; p < gt_i.size(); ++p)
+        {
+            const auto it = by_gt.find(gt_i.data[p]);
+            if (it == by_gt.end() || f.semantic.data[p] != gt_s.data[p] || f.instance.data[p] == 0) continue;
+            const InstanceOutcome& o = *it->second;
+            if (o.dropped || o.confused) continue;
+            const bool grouped = o.split || o.merged;
+            (grouped ? sl_group : sl_clean) += f.semantic_score.data[p];
+            (grouped ? sp_group : sp_clean) += f.panoptic_score.data[p];
+            (grouped ? n_group : n_clean) += 1;
+        }
+    }
+    ASSERT_GT(n_group, 1000);
+    ASSERT_GT(n_clean, 1000);
+    EXPECT_NEAR(sl_group / n_group, sl_clean / n_clean, 0.05);
+    EXPECT_LT(sp_group / n_group, sp_clean / n_clean - 0.15);
+}
+
 TEST(SegNoise, StrongerNoiseMeansMoreErrors)
 {
     const Walk& w = denseWalk();

@@ -68,6 +68,7 @@ void expectSameState(const PanopticMap& a, const PanopticMap& b)
         EXPECT_EQ(0, std::memcmp(&x.sum, &y.sum, sizeof(float)));
     }
     EXPECT_EQ(a.nextInstanceId(), b.nextInstanceId());
+    EXPECT_EQ(a.pairEvidence(), b.pairEvidence());
 }
 
 std::vector<uint8_t> serialize(const mrpt::serialization::CSerializable& o)

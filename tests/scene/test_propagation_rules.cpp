@@ -6,7 +6,7 @@ using namespace pndt;
 
 namespace
 {
-constexpr uint8_t kChair = 5, kSofa = 6, kWall = 1;
+constexpr uint8_t kChair = 5, kSofa = 6, kWall = 1, kRug = 20;
 
 /// One occupied voxel at x = i with the given semantic entries, n^L, n^Z and
 /// instance entries.
@@ -17,7 +17,7 @@ struct VoxelSpec
     std::vector<std::pair<uint32_t, float>> instances;
 };
 
-PanopticMap build(const std::vector<VoxelSpec>& specs, uint32_t next_id)
+PanopticMap build(const std::vector<VoxelSpec>& specs, uint32_t next_id, MapOptions options = {})
 {
     const ClassSet classes = ClassSet::nyuv2_40();
     std::vector<uint64_t> keys;
@@ -52,7 +52,7 @@ PanopticMap build(const std::vector<VoxelSpec>& specs, uint32_t next_id)
         }
         labels.push_back(r);
     }
-    PanopticMap map;
+    PanopticMap map(options);
     map.restore(keys, voxels, surfaces, labels, inst, next_id);
     return map;
 }
@@ -102,4 +102,32 @@ TEST(Propagation, StuffDominatedVoxelNeverTakesAnInstance)
     const PanopticMap map = build({{{{kWall, 9.f}, {kChair, 1.f}}, 10, 10, {{5, 3.f}}}}, 6);
     EXPECT_EQ(map.panopticLabel(0), (PanopticLabel{kWall, 0}));
     EXPECT_TRUE(map.instances().empty());
+}
+
+TEST(Propagation, VoxelOfAnotherClassMovesToItsStrongestInstanceOfItsClass)
+{
+    // Instance 7 holds two chair voxels and one rug voxel (an early merged
+    // prediction); the rug voxel also holds instance 9 (weight 3 of 8: in its top
+    // z), which voxel 3, a rug, takes. Voxel 4 is a rug whose only other entry
+    // (weight 0.5 of 10.5) is outside its top z: it stays with 7.
+    const std::vector<VoxelSpec> specs = {{{{kChair, 5.f}}, 10, 10, {{7, 4.f}}},
+                                          {{{kChair, 5.f}}, 10, 10, {{7, 4.f}}},
+                                          {{{kRug, 4.f}}, 10, 10, {{7, 5.f}, {9, 3.f}}},
+                                          {{{kRug, 4.f}}, 10, 10, {{9, 4.f}}},
+                                          {{{kRug, 1.f}}, 10, 10, {{7, 10.f}, {9, 0.5f}}}};
+    const PanopticMap map = build(specs, 10);
+    EXPECT_EQ(map.panopticLabel(0), (PanopticLabel{kChair, 7}));
+    EXPECT_EQ(map.panopticLabel(2), (PanopticLabel{kRug, 9}));
+    EXPECT_EQ(map.panopticLabel(3), (PanopticLabel{kRug, 9}));
+    EXPECT_EQ(map.panopticLabel(4), (PanopticLabel{kChair, 7}));
+    const auto inst = map.instances();
+    ASSERT_EQ(inst.size(), 2u);
+    EXPECT_EQ(inst[0].voxel_count, 3u);  // 7: voxels 0, 1, 4
+    EXPECT_EQ(inst[1].voxel_count, 2u);  // 9: voxels 2, 3
+
+    // The paper's rule: the top entry, whatever the voxel's own class.
+    MapOptions paper;
+    paper.class_consistent_instances = false;
+    const PanopticMap p = build(specs, 10, paper);
+    EXPECT_EQ(p.panopticLabel(2), (PanopticLabel{kChair, 7}));
 }

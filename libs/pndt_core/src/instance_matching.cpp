@@ -1,6 +1,7 @@
 // Paper steps 3-4: back-project the map's thing voxels into the image as
 // per-instance masks (vtou, projected NDT Gaussians, depth-tested) and match
 // the predicted instances to them by IoU.
+#include <pndt/instance_assignment.h>
 #include <pndt/instance_rules.h>
 
 #include <algorithm>
@@ -23,9 +24,11 @@ void PanopticMap::predictedBand(const PanopticFrame& f, int band, int bands)
     pb.index.clear();
     pb.ids.clear();
     pb.area.clear();
+    pb.cls.clear();
     const int W = f.depth.width, H = f.depth.height;
     const size_t i0 = size_t(H * band / bands) * W, i1 = size_t(H * (band + 1) / bands) * W;
     const uint32_t* ids = f.instance.data.data();
+    const uint16_t* sem = f.hasLabels() ? f.semantic.data.data() : nullptr;
     const int32_t* slots = s.pixel_slot.data();
     int32_t* predicted = s.pixel_predicted.data();
     uint32_t last_id = 0;
@@ -48,6 +51,7 @@ void PanopticMap::predictedBand(const PanopticFrame& f, int band, int bands)
             {
                 pb.ids.push_back(id);
                 pb.area.push_back(0);
+                pb.cls.push_back(sem ? sem[i] : 0);  // Eq. 1: one class per predicted instance
             }
             last_id = id;
             last_local = int32_t(it->second);
@@ -86,6 +90,7 @@ void PanopticMap::matchInstances(const PanopticFrame& f, const Pose& T, FrameSta
             {
                 g.ids.push_back(pb.ids[j]);
                 g.area.push_back(0);
+                g.cls.push_back(pb.cls[j]);
             }
             g.area[it->second] += pb.area[j];
             pb.remap[j] = int32_t(it->second);
@@ -150,8 +155,14 @@ void PanopticMap::matchInstances(const PanopticFrame& f, const Pose& T, FrameSta
         const uint32_t stamp = ++m.counter;
         uint64_t area = 0;
         uint64_t* inter = &s.group_inter[size_t(gi) * P];
+        uint32_t* stamps = m.stamp.data();
         for (size_t c = s.groups[size_t(gi)].first; c < s.groups[size_t(gi)].second; ++c)
-            rasterizeVoxel(s.candidates[c].second, T_cam_world, f, m.stamp.data(), stamp, area, inter);
+            forEachMaskPixel(s.candidates[c].second, T_cam_world, f, [&](size_t i, int32_t p) {
+                if (stamps[i] == stamp) return;
+                stamps[i] = stamp;
+                ++area;
+                if (p >= 0) ++inter[size_t(p)];
+            });
         s.group_area[size_t(gi)] = area;
     };
     if (threads > 1 && G > 1)
@@ -159,44 +170,167 @@ void PanopticMap::matchInstances(const PanopticFrame& f, const Pose& T, FrameSta
     else
         for (size_t gi = 0; gi < G; ++gi) mask(int(gi), 0);
 
-    s.best_iou.assign(P, 0.0);
-    s.best_map_id.assign(P, 0);
+    s.iou.resize(G * P);
     for (size_t gi = 0; gi < G; ++gi)
-    {
-        const uint32_t z = s.candidates[s.groups[gi].first].first;
         for (size_t p = 0; p < P; ++p)
-        {
-            const double j = intersectionOverUnion(s.group_inter[gi * P + p], s.group_area[gi], g.area[p]);
-            if (j > s.best_iou[p])
-            {
-                s.best_iou[p] = j;
-                s.best_map_id[p] = z;
-            }
-        }
+            s.iou[gi * P + p] = intersectionOverUnion(s.group_inter[gi * P + p], s.group_area[gi], g.area[p]);
+    AssignmentInput in;
+    in.iou = s.iou.data();
+    in.class_of = f.hasLabels() ? g.cls.data() : nullptr;
+    if (f.hasLabels() && (options_.class_consistent_instances || options_.split_coverage > 0))
+    {
+        classifyMapInstances();
+        if (options_.class_consistent_instances) in.map_class = s.group_class.data();
     }
-
-    // Not exclusive: several predictions may take the same map instance.
+    in.map_instances = G;
+    in.predictions = P;
+    in.theta_m = options_.theta_m;
+    in.theta_n = options_.theta_n;
+    assignPredictions(in, s.assignment);
     for (size_t p = 0; p < P; ++p)
     {
-        switch (classifyMatch(s.best_iou[p], options_.theta_m, options_.theta_n))
+        const int32_t a = s.assignment[p];
+        if (a >= 0)
         {
-            case MatchKind::Matched:
-                s.predicted_decision[p] = s.best_map_id[p];
-                ++st.matched_instances;
-                break;
-            case MatchKind::New:
-                s.predicted_decision[p] = next_instance_id_++;
-                ++st.new_instances;
-                break;
-            case MatchKind::Ambiguous:
-                ++st.ambiguous_instances;
-                break;
+            s.predicted_decision[p] = s.candidates[s.groups[size_t(a)].first].first;
+            ++st.matched_instances;
+        }
+        else if (a == kAssignNew)
+        {
+            s.predicted_decision[p] = next_instance_id_++;
+            ++st.new_instances;
+        }
+        else
+            ++st.ambiguous_instances;
+    }
+    splitMergedPredictions(f, T_cam_world, st);
+    collectFragmentEvidence();
+}
+
+void PanopticMap::collectFragmentEvidence()
+{
+    Scratch& s = *scratch_;
+    const size_t G = s.groups.size(), P = s.predicted_bands[0].ids.size();
+    if (options_.fragment_merge_frames == 0 || s.group_class.size() != G || G < 2) return;
+    const PredictedBand& g = s.predicted_bands[0];
+    // Each map instance in view that one prediction of its class covers mostly.
+    constexpr uint64_t kMinMaskPixels = 50;  // smaller masks say little
+    s.coverer.assign(G, -1);
+    for (size_t gi = 0; gi < G; ++gi)
+    {
+        if (s.group_class[gi] == 0 || s.group_area[gi] < kMinMaskPixels) continue;
+        for (size_t p = 0; p < P; ++p)
+            if (g.cls[p] == s.group_class[gi] && 2 * s.group_inter[gi * P + p] > s.group_area[gi])
+                s.coverer[gi] = int32_t(p);
+    }
+    for (size_t a = 0; a < G; ++a)
+    {
+        if (s.coverer[a] < 0) continue;
+        for (size_t b = a + 1; b < G; ++b)
+        {
+            if (s.coverer[b] < 0 || s.group_class[b] != s.group_class[a]) continue;
+            uint32_t za = s.candidates[s.groups[a].first].first, zb = s.candidates[s.groups[b].first].first;
+            if (za > zb) std::swap(za, zb);
+            auto& e = s.pair_evidence[(uint64_t(za) << 32) | zb];
+            if (s.coverer[a] == s.coverer[b])
+                ++e.joint;
+            else
+                ++e.apart;
+            if (e.joint >= options_.fragment_merge_frames && e.joint > 2 * e.apart)
+                s.fragment_merges.emplace_back(zb, za);  // keep the older id
         }
     }
 }
 
-void PanopticMap::rasterizeVoxel(uint32_t voxel, const Pose& T_cam_world, const PanopticFrame& f, uint32_t* stamps,
-                                 uint32_t stamp, uint64_t& area, uint64_t* inter)
+void PanopticMap::mergeFragments(FrameStats& st)
+{
+    Scratch& s = *scratch_;
+    if (s.fragment_merges.empty()) return;
+    // Chains (c into b, b into a) end at the oldest id.
+    tsl::robin_map<uint32_t, uint32_t> into;
+    for (const auto& [from, to] : s.fragment_merges) into[from] = to;
+    const auto root = [&](uint32_t z) {
+        for (auto it = into.find(z); it != into.end(); it = into.find(z)) z = it->second;
+        return z;
+    };
+    renameInstances(root);
+    st.merged_fragments += into.size();
+    // Evidence about a merged id now concerns its root: start those pairs afresh.
+    for (auto it = s.pair_evidence.begin(); it != s.pair_evidence.end();)
+        if (into.count(uint32_t(it->first >> 32)) || into.count(uint32_t(it->first)))
+            it = s.pair_evidence.erase(it);
+        else
+            ++it;
+    s.fragment_merges.clear();
+}
+
+void PanopticMap::classifyMapInstances()
+{
+    Scratch& s = *scratch_;
+    const size_t G = s.groups.size();
+    // Class of each map instance: the thing class with the most semantic mass over
+    // its voxels in view (the propagation rule, on what the frame sees).
+    const ClassSet& classes = options_.classes;
+    s.class_mass.resize(classes.size());
+    s.group_class.assign(G, 0);
+    for (size_t gi = 0; gi < G; ++gi)
+    {
+        std::fill(s.class_mass.begin(), s.class_mass.end(), 0.f);
+        for (size_t c = s.groups[gi].first; c < s.groups[gi].second; ++c)
+        {
+            const LabelRecord& rec = *labelsOf(store_[s.candidates[c].second]);
+            for (int j = 0; j < rec.semantic.size; ++j)
+                if (classes.isThing(rec.semantic.ids[j])) s.class_mass[rec.semantic.ids[j]] += rec.semantic.weights[j];
+        }
+        const auto best = std::max_element(s.class_mass.begin(), s.class_mass.end());
+        if (*best > 0) s.group_class[gi] = uint16_t(best - s.class_mass.begin());
+    }
+}
+
+void PanopticMap::splitMergedPredictions(const PanopticFrame& f, const Pose& T_cam_world, FrameStats& st)
+{
+    Scratch& s = *scratch_;
+    s.split_pixels = false;
+    const size_t G = s.groups.size(), P = s.predicted_bands[0].ids.size();
+    if (options_.split_coverage <= 0 || s.group_class.size() != G || G < 2) return;
+    const PredictedBand& g = s.predicted_bands[0];
+    const ClassSet& classes = options_.classes;
+
+    const size_t N = f.depth.data.size();
+    if (s.split_stamp.size() != N || s.split_counter == 0xFFFFFFFFu)
+    {
+        s.split_stamp.assign(N, 0);
+        s.split_id.resize(N);
+        s.split_counter = 0;
+    }
+    const uint32_t stamp = ++s.split_counter;
+    for (size_t gi = 0; gi < G; ++gi)
+    {
+        const uint16_t gc = s.group_class[gi];
+        if (gc == 0 || s.group_area[gi] == 0) continue;
+        const uint32_t z = s.candidates[s.groups[gi].first].first;
+        for (size_t p = 0; p < P; ++p)
+        {
+            if (g.cls[p] == 0 || g.cls[p] == gc || s.assignment[p] == int32_t(gi)) continue;
+            if (double(s.group_inter[gi * P + p]) < options_.split_coverage * double(s.group_area[gi])) continue;
+            // p swallowed most of a map instance of another class: its pixels there
+            // keep that instance, except on voxels that are of p's class themselves
+            // (an early merge in the map that p now resolves).
+            ++st.split_predictions;
+            s.split_pixels = true;
+            for (size_t c = s.groups[gi].first; c < s.groups[gi].second; ++c)
+                if (ownThingClass(*labelsOf(store_[s.candidates[c].second]), classes) != g.cls[p])
+                forEachMaskPixel(s.candidates[c].second, T_cam_world, f, [&](size_t i, int32_t q) {
+                    if (q != int32_t(p)) return;
+                    s.split_stamp[i] = stamp;
+                    s.split_id[i] = z;
+                });
+        }
+    }
+}
+
+template <class Visit>
+void PanopticMap::forEachMaskPixel(uint32_t voxel, const Pose& T_cam_world, const PanopticFrame& f, Visit&& visit)
 {
     Scratch& s = *scratch_;
     const Voxel& v = store_[voxel];
@@ -283,10 +417,7 @@ void PanopticMap::rasterizeVoxel(uint32_t voxel, const Pose& T_cam_world, const 
             const size_t i = row + c;
             const int32_t p = predicted[i];
             if (p == kUnmappedPixel || std::abs(depth[i] - z0) > tol) continue;  // depth test
-            if (stamps[i] == stamp) continue;
-            stamps[i] = stamp;
-            ++area;
-            if (p >= 0) ++inter[size_t(p)];
+            visit(i, p);
         }
     }
 }

@@ -104,6 +104,10 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
     const float* sem_score = f.semantic_score.data.data();
     const int32_t* predicted = instances ? s.pixel_predicted.data() : nullptr;
     const uint32_t* decision = s.predicted_decision.data();
+    // Pixels of a merged prediction that lie on a map instance of another class.
+    const uint32_t* split_stamp = s.split_pixels ? s.split_stamp.data() : nullptr;
+    const uint32_t* split_id = s.split_id.data();
+    const uint32_t split_now = s.split_counter;
     const float* pan_score = instances ? f.panoptic_score.data.data() : nullptr;
     const HitSlot* hits = s.hits();
     SlotRecords* slot_records = s.slot_records.data();
@@ -181,7 +185,9 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
         if (instances)
         {
             const int32_t p = predicted[i];
-            const uint32_t z = p >= 0 ? decision[size_t(p)] : 0;
+            const uint32_t z = split_stamp && split_stamp[i] == split_now ? split_id[i]
+                               : p >= 0                                   ? decision[size_t(p)]
+                                                                          : 0;
             const float sp = pan_score[i];
             // Scores near the threshold make "is it an update" unpredictable:
             // the common cases take no branch (adding +0 leaves a weight as it is).

@@ -37,6 +37,7 @@ void MapOptions::validate() const
     require(unit(theta_m), "theta_m", "in [0, 1]");
     require(unit(theta_n) && theta_n <= theta_m, "theta_n", "in [0, theta_m]");
     require(theta_o >= 0, "theta_o", ">= 0");
+    require(split_coverage >= 0 && split_coverage <= 1, "split_coverage", "in [0, 1]");
     require(vtou_mahalanobis_sq > 0, "vtou_mahalanobis_sq", "positive");
     require(vtou_depth_tolerance > 0, "vtou_depth_tolerance", "positive");
     require(query_mahalanobis_sq > 0, "query_mahalanobis_sq", "positive");

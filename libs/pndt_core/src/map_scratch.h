@@ -151,6 +151,7 @@ struct PredictedBand
     tsl::robin_map<uint32_t, uint32_t> index;  ///< raw predicted id -> local index
     std::vector<uint32_t> ids;
     std::vector<uint64_t> area;                ///< mapped pixels
+    std::vector<uint16_t> cls;                 ///< semantic class at its first pixel
     std::vector<int32_t> remap;                ///< local index -> frame index
 };
 
@@ -215,8 +216,24 @@ struct PanopticMap::Scratch
     std::vector<uint64_t> group_area;                    ///< per group: mask area
     std::vector<uint64_t> group_inter;                   ///< per group x predicted: intersection
     std::vector<MaskWorker> mask_workers;                ///< per thread
-    std::vector<double> best_iou;
-    std::vector<uint32_t> best_map_id;
+    std::vector<double> iou;                             ///< per group x predicted
+    std::vector<int32_t> assignment;                     ///< per predicted: group, kAssignNew/Ambiguous
+    std::vector<float> class_mass;                       ///< per class, one group at a time
+    std::vector<uint16_t> group_class;                   ///< per group: its thing class, 0 = none
+    std::vector<uint32_t> split_stamp, split_id;         ///< per pixel: map id where a merge was split
+    uint32_t split_counter = 0;
+    bool split_pixels = false;                           ///< this frame split a prediction
+    std::vector<int32_t> coverer;                        ///< per group: the prediction covering most of it, or -1
+
+    /// Fragment evidence per pair of map instances (smaller id in the high half):
+    /// frames one prediction covered both / two predictions covered them apart.
+    /// Map state kept here because it changes with every frame like the scratch.
+    struct PairCounts
+    {
+        uint32_t joint = 0, apart = 0;
+    };
+    tsl::robin_map<uint64_t, PairCounts> pair_evidence;
+    std::vector<std::pair<uint32_t, uint32_t>> fragment_merges;  ///< (fragment, into), applied after the frame
 
     // histograms
     std::vector<uint32_t> new_label;      ///< per hit slot: new record in its task's list, or kNoRecord
@@ -234,6 +251,8 @@ struct PanopticMap::Scratch
 struct PanopticMap::Propagation
 {
     tsl::robin_map<uint32_t, uint16_t> instance_class;  ///< map instance -> its thing class
+    /// Voxels that take another instance than their top one (class_consistent_instances).
+    tsl::robin_map<uint32_t, uint32_t> instance_of_voxel;
     std::vector<MapInstance> instances;                 ///< sorted by id
 };
 

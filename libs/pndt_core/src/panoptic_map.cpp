@@ -60,6 +60,30 @@ PanopticMap::PanopticMap(const PanopticMap& o)
       scratch_(std::make_unique<Scratch>()),
       prop_(std::make_unique<Propagation>())
 {
+    scratch_->pair_evidence = o.scratch_->pair_evidence;
+}
+
+std::vector<PanopticMap::PairEvidence> PanopticMap::pairEvidence() const
+{
+    std::vector<PairEvidence> out;
+    out.reserve(scratch_->pair_evidence.size());
+    for (const auto& [key, c] : scratch_->pair_evidence)
+        out.push_back({uint32_t(key >> 32), uint32_t(key), c.joint, c.apart});
+    std::sort(out.begin(), out.end(),
+              [](const PairEvidence& x, const PairEvidence& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+    return out;
+}
+
+void PanopticMap::restorePairEvidence(const std::vector<PairEvidence>& evidence)
+{
+    auto& table = scratch_->pair_evidence;
+    table.clear();
+    for (const PairEvidence& e : evidence)
+    {
+        if (e.a == 0 || e.a >= e.b)
+            throw std::invalid_argument(fmt::format("pair evidence ({}, {}): ids must be 0 < a < b", e.a, e.b));
+        table[(uint64_t(e.a) << 32) | e.b] = {e.joint, e.apart};
+    }
 }
 
 PanopticMap& PanopticMap::operator=(const PanopticMap& o)
@@ -75,6 +99,7 @@ void PanopticMap::clear()
     labels_.clear();
     instance_records_.clear();
     next_instance_id_ = 1;
+    scratch_->pair_evidence.clear();
     invalidate();
 }
 
@@ -157,6 +182,7 @@ FrameStats PanopticMap::integrate(const PanopticFrame& frame, const Pose& T_worl
     if (frame.hasInstances()) matchInstances(frame, T_world_cam, st);
     const auto t4 = Clock::now();
     if (frame.hasLabels()) updateHistograms(frame, st);
+    mergeFragments(st);
     const auto t5 = Clock::now();
     st.seconds_projection = seconds(t0, t1);
     st.seconds_ndt = seconds(t1, t2);
@@ -258,6 +284,7 @@ void PanopticMap::restore(const std::vector<uint64_t>& keys, std::vector<Voxel> 
     labels_ = std::move(labels);
     instance_records_ = std::move(instance_records);
     next_instance_id_ = next_instance_id;
+    scratch_->pair_evidence.clear();
     invalidate();
 }
 

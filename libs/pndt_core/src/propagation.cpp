@@ -8,22 +8,18 @@
 
 namespace pndt
 {
-void PanopticMap::ensurePropagated() const
+void PanopticMap::classifyInstances() const
 {
-    if (propagated_valid_) return;
+    // The summed thing histogram of every instance over all voxels that take it
+    // (pthing), in voxel order.
     Propagation& pr = *prop_;
     const size_t n = store_.size();
     const size_t C = options_.classes.size();
-    pr.instance_class.clear();
-    pr.instances.clear();
-
-    // Pass 1: the summed thing histogram of every instance over all voxels that
-    // take it (pthing), in voxel order.
     tsl::robin_map<uint32_t, uint32_t> row_of;
     std::vector<double> class_mass;  // rows of C
     for (size_t i = 0; i < n; ++i)
     {
-        const uint32_t z = propagatedInstance(store_[uint32_t(i)]);
+        const uint32_t z = propagatedInstance(uint32_t(i));
         if (z == 0) continue;
         const LabelRecord& rec = *labelsOf(store_[uint32_t(i)]);
         const auto [it, inserted] = row_of.try_emplace(z, uint32_t(row_of.size()));
@@ -32,18 +28,59 @@ void PanopticMap::ensurePropagated() const
         for (int j = 0; j < rec.semantic.size; ++j)
             if (options_.classes.isThing(rec.semantic.ids[j])) row[rec.semantic.ids[j]] += rec.semantic.weights[j];
     }
+    pr.instance_class.clear();
     pr.instance_class.reserve(row_of.size());
     for (const auto& [z, row_index] : row_of)
     {
         const double* row = &class_mass[size_t(row_index) * C];
         pr.instance_class.emplace(z, uint16_t(std::max_element(row, row + C) - row));
     }
+}
+
+void PanopticMap::ensurePropagated() const
+{
+    if (propagated_valid_) return;
+    Propagation& pr = *prop_;
+    const size_t n = store_.size();
+    pr.instances.clear();
+    pr.instance_of_voxel.clear();
+
+    // Pass 1: instance classes from the top instance of every voxel.
+    classifyInstances();
+
+    // Pass 1b: a voxel whose own class is not its instance's (the rug that an
+    // early merged prediction tied to the chair on it) moves to its strongest
+    // instance of its own class; then the classes are summed again.
+    if (options_.class_consistent_instances)
+    {
+        for (size_t i = 0; i < n; ++i)
+        {
+            const Voxel& v = store_[uint32_t(i)];
+            const uint32_t z = topInstance(v);
+            if (z == 0) continue;
+            const LabelRecord& rec = *labelsOf(v);
+            const uint16_t own = ownThingClass(rec, options_.classes);
+            if (own == 0 || own == pr.instance_class.at(z)) continue;
+            const auto& hist = instance_records_[rec.instances].hist;
+            for (int j = 1; j < hist.size; ++j)  // by weight, strongest first
+            {
+                const auto it = pr.instance_class.find(hist.ids[j]);
+                if (it != pr.instance_class.end() && it->second == own &&
+                    isInTopZ(hist, hist.ids[j], options_.theta_b))
+                {
+                    pr.instance_of_voxel.emplace(uint32_t(i), hist.ids[j]);
+                    break;
+                }
+            }
+        }
+        if (!pr.instance_of_voxel.empty()) classifyInstances();
+    }
 
     // Pass 2: the instance summaries (centroid, extent, count).
     tsl::robin_map<uint32_t, uint32_t> summary_of;
     for (size_t i = 0; i < n; ++i)
     {
-        const uint32_t z = propagatedInstance(store_[uint32_t(i)]);
+        const uint32_t z = propagatedInstance(uint32_t(i));
         if (z == 0) continue;
         const Eigen::Vector3d p = pointOf(uint32_t(i));
         const auto [it, inserted] = summary_of.try_emplace(z, uint32_t(pr.instances.size()));
@@ -67,7 +104,17 @@ void PanopticMap::ensurePropagated() const
     propagated_valid_ = true;
 }
 
-uint32_t PanopticMap::propagatedInstance(const Voxel& v) const
+uint32_t PanopticMap::propagatedInstance(uint32_t voxel) const
+{
+    if (!prop_->instance_of_voxel.empty())
+    {
+        const auto it = prop_->instance_of_voxel.find(voxel);
+        if (it != prop_->instance_of_voxel.end()) return it->second;
+    }
+    return topInstance(store_[voxel]);
+}
+
+uint32_t PanopticMap::topInstance(const Voxel& v) const
 {
     if (!isOccupied(v)) return 0;
     const LabelRecord* rec = labelsOf(v);
@@ -86,7 +133,7 @@ PanopticLabel PanopticMap::panopticLabel(uint32_t voxel) const
     const LabelRecord* rec = labelsOf(v);
     if (!rec) return {};
     // pthing voxels take <the instance's class, the instance>; all others <argmax h^L, 0>.
-    const uint32_t z = propagatedInstance(v);
+    const uint32_t z = propagatedInstance(voxel);
     if (z == 0) return {rec->semantic.top(), 0};
     return {prop_->instance_class.at(z), z};
 }

@@ -227,8 +227,10 @@ SegNoiseFrame SegmentationNoiseModel::apply(const Image<uint16_t>& gt_sem, const
     for (int64_t sl : used) out.phantoms += sl >= 2 * nseg ? 1 : 0;
 
     // --- 6. scores -----------------------------------------------------------------------
-    // Is a slot / segment prediction right? (class kept, not split, not merged)
-    auto slotOk = [&](int64_t sl, double& u, double& diff)
+    // S^L says whether a pixel's class is right; the instance score whether the slot's
+    // grouping is right too. A network's semantic confidence does not drop because its
+    // instance post-processing split an object or merged it with a neighbour.
+    auto slotClassOk = [&](int64_t sl, double& u, double& diff)
     {
         if (sl >= 2 * nseg)
         {
@@ -239,21 +241,23 @@ SegNoiseFrame SegmentationNoiseModel::apply(const Image<uint16_t>& gt_sem, const
         const int k = static_cast<int>(sl / 2);
         u = dec[k].score_u;
         diff = dec[k].difficulty;
-        return !(sl & 1) && !dec[k].confuse && !dec[k].split && group_cls[k] == fs.segments[k].semantic;
+        return !dec[k].confuse && group_cls[k] == fs.segments[k].semantic;
     };
     std::vector<uint8_t> in_group(static_cast<size_t>(nseg), 0);
     for (int k = 0; k < nseg; ++k)
         if (root[k] != k) in_group[k] = in_group[root[k]] = 1;
     const size_t nslots = id_of.size();
-    std::vector<double> slot_base(nslots, 0.0), slot_inst(nslots, 0.0);
+    std::vector<double> slot_base(nslots, 0.0), slot_wrong(nslots, 0.0), slot_inst(nslots, 0.0);
     for (int64_t sl : used)
     {
         double u, diff;
-        bool ok = slotOk(sl, u, diff);
-        if (sl < 2 * nseg && in_group[sl / 2]) ok = false;
+        const bool class_ok = slotClassOk(sl, u, diff);
+        const bool grouping_ok =
+            class_ok && !(sl & 1) && !dec[sl / 2].split && !in_group[sl / 2];  // phantoms: class_ok false
         const double d01 = diff / (1.0 + diff);
-        slot_base[sl] = ok ? 0.98 - spread * (0.2 * d01 + 0.12 * u) : 0.98 - spread * (0.45 + 0.2 * u);
-        slot_inst[sl] = ok ? 0.96 - spread * (0.25 * d01 + 0.1 * u) : 0.96 - spread * (0.45 + 0.2 * u);
+        slot_wrong[sl] = 0.98 - spread * (0.45 + 0.2 * u);
+        slot_base[sl] = sl < 2 * nseg ? 0.98 - spread * (0.2 * d01 + 0.12 * u) : slot_wrong[sl];
+        slot_inst[sl] = grouping_ok ? 0.96 - spread * (0.25 * d01 + 0.1 * u) : 0.96 - spread * (0.45 + 0.2 * u);
     }
     const std::vector<float> bdist = [&]
     {
@@ -273,7 +277,12 @@ SegNoiseFrame SegmentationNoiseModel::apply(const Image<uint16_t>& gt_sem, const
         }
         double base;
         if (slot[i] >= 0)
-            base = slot_base[slot[i]];
+        {
+            // Per pixel: a merged group carries one class, right for some members only.
+            const int a = fs.index[i];
+            const bool pixel_wrong = a < 0 || out.semantic.data[i] != fs.segments[a].semantic;
+            base = pixel_wrong ? slot_wrong[slot[i]] : slot_base[slot[i]];
+        }
         else
         {
             const int a = assigned[i];

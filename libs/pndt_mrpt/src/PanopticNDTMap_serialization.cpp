@@ -1,7 +1,11 @@
 // Versioned MRPT serialisation of PanopticNDTMap. Every voxel field is written
 // raw, so a round trip is bit-exact.
 //
-// Version 1 layout (written): magic "PNDT", map options, class set, insertion
+// Version 2 (written): version 1 with the map options split_coverage (f64),
+// class_consistent_instances (bool) and fragment_merge_frames (u32) after the
+// class set, and at the end the fragment evidence: count (u64), then instance a,
+// instance b, joint, apart (u32 arrays).
+// Version 1 layout (read): magic "PNDT", map options, class set, insertion
 // and render options, next instance id, generic map parameters, then
 // struct-of-arrays blocks, each preceded by its element count:
 //  - voxels: packed key (u64), occupancy (f32), surface record (u32);
@@ -37,9 +41,10 @@ void writeOptions(CArchive& a, const MapOptions& o)
     a << o.vtou_mahalanobis_sq << o.vtou_depth_tolerance << o.query_mahalanobis_sq;
     a << uint32_t(o.classes.size());
     for (const auto& c : o.classes.classes()) a << c.name << c.is_thing;
+    a << o.split_coverage << o.class_consistent_instances << o.fragment_merge_frames;
 }
 
-MapOptions readOptions(CArchive& a)
+MapOptions readOptions(CArchive& a, uint8_t version)
 {
     MapOptions o;
     uint8_t ray = 0;
@@ -56,6 +61,8 @@ MapOptions readOptions(CArchive& a)
     std::vector<ClassSet::Class> classes(n);
     for (auto& c : classes) a >> c.name >> c.is_thing;
     o.classes = ClassSet(std::move(classes));
+    // Older maps take today's defaults: the rules work on the stored histograms.
+    if (version >= 2) a >> o.split_coverage >> o.class_consistent_instances >> o.fragment_merge_frames;
     o.validate();
     return o;
 }
@@ -80,7 +87,7 @@ uint64_t readCount(CArchive& a, const char* what, uint64_t max)
 }
 }  // namespace
 
-uint8_t PanopticNDTMap::serializeGetVersion() const { return 1; }
+uint8_t PanopticNDTMap::serializeGetVersion() const { return 2; }
 
 void PanopticNDTMap::serializeTo(CArchive& out) const
 {
@@ -173,6 +180,22 @@ void PanopticNDTMap::serializeTo(CArchive& out) const
     writeArray(out, i_ids);
     writeArray(out, i_w);
     writeArray(out, i_sum);
+
+    // Version 2: fragment evidence, as parallel u32 arrays.
+    const auto ev = map_.pairEvidence();
+    std::vector<uint32_t> ev_a, ev_b, ev_joint, ev_apart;
+    for (const auto& e : ev)
+    {
+        ev_a.push_back(e.a);
+        ev_b.push_back(e.b);
+        ev_joint.push_back(e.joint);
+        ev_apart.push_back(e.apart);
+    }
+    out << uint64_t(ev.size());
+    writeArray(out, ev_a);
+    writeArray(out, ev_b);
+    writeArray(out, ev_joint);
+    writeArray(out, ev_apart);
 }
 
 void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
@@ -181,6 +204,7 @@ void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
     {
         case 0:
         case 1:
+        case 2:
         {
             const char* stage = "header";
             try
@@ -189,7 +213,7 @@ void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
                 in >> magic;
                 if (magic != kMagic) throw std::runtime_error("not a PanopticNDTMap payload (bad magic)");
                 stage = "options";
-                MapOptions o = readOptions(in);
+                MapOptions o = readOptions(in, version);
                 InsertionOptions io;
                 uint64_t max_buf = 0;
                 in >> io.label_pairing_tolerance >> io.semantic_suffix >> io.instance_suffix >> max_buf;
@@ -311,9 +335,23 @@ void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
                     h.sum = i_sum[i];
                 }
 
+                std::vector<PanopticMap::PairEvidence> evidence;
+                if (version >= 2)
+                {
+                    stage = "fragment evidence";
+                    const size_t ne = readCount(in, "pair evidence", kMaxVoxels);
+                    std::vector<uint32_t> ev_a, ev_b, ev_joint, ev_apart;
+                    readArray(in, ev_a, ne);
+                    readArray(in, ev_b, ne);
+                    readArray(in, ev_joint, ne);
+                    readArray(in, ev_apart, ne);
+                    for (size_t i = 0; i < ne; ++i) evidence.push_back({ev_a[i], ev_b[i], ev_joint[i], ev_apart[i]});
+                }
+
                 stage = "consistency check";
                 PanopticMap m(o);
                 m.restore(keys, std::move(voxels), std::move(surfaces), std::move(recs), std::move(irecs), next_id);
+                m.restorePairEvidence(evidence);
                 map_ = std::move(m);
                 insertionOptions = io;  // the pairer's options
                 renderOptions = ro;

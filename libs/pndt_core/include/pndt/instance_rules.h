@@ -1,6 +1,7 @@
 // The per-voxel predicates of the paper's Eq. 2-10 (arXiv v2), free of any map.
 #pragma once
 
+#include <pndt/class_set.h>
 #include <pndt/voxel.h>
 
 namespace pndt
@@ -31,6 +32,20 @@ inline bool isInTopZ(const SparseHistogram<uint32_t, 16>& h, uint32_t z, double 
 inline bool isPanopticThing(const LabelRecord& r, double theta_st, double theta_o)
 {
     return isThing(r, theta_st) && r.n_l > 0 && double(r.n_z) >= theta_o * double(r.n_l);
+}
+
+/// The thing class with the most mass in a voxel's own h^L, or 0 if it has none.
+inline uint16_t ownThingClass(const LabelRecord& r, const ClassSet& classes)
+{
+    float best = 0;
+    uint16_t c = 0;
+    for (int j = 0; j < r.semantic.size; ++j)
+        if (classes.isThing(r.semantic.ids[j]) && r.semantic.weights[j] > best)
+        {
+            best = r.semantic.weights[j];
+            c = r.semantic.ids[j];
+        }
+    return c;
 }
 
 /// Outcome of matching one predicted instance against the map's instances.

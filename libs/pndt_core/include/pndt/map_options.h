@@ -47,6 +47,22 @@ struct MapOptions
     double theta_m = 0.2;   ///< IoU above which a predicted instance is matched
     double theta_n = 0.1;   ///< IoU at or below which it gets a new id
     double theta_o = 0.25;  ///< n^Z/n^L above which a thing voxel takes its instance
+    /// A predicted instance that covers at least this share of a map instance of
+    /// another thing class is a merge in the segmentation (a chair with its rug):
+    /// its pixels on that map instance keep the map instance's id. 0 = off (the
+    /// paper's rule: the whole prediction takes one id).
+    double split_coverage = 0.5;
+    /// Instances keep one thing class: a prediction does not take a map instance
+    /// of another class, and a voxel whose own class differs from its top
+    /// instance's takes its strongest instance of its own class (top-z) if it has
+    /// one. false = the paper's rules.
+    bool class_consistent_instances = true;
+    /// Map instances of one class that a single prediction covered (each mostly)
+    /// in at least this many frames, and more than twice as often as two
+    /// predictions covered them apart, are one object split early on: they are
+    /// merged into the older id. 0 = off (the paper: fragments only heal through
+    /// the histograms). The evidence lives with the map in memory, not in files.
+    uint32_t fragment_merge_frames = 3;
 
     // --- back-projection and queries
     double vtou_mahalanobis_sq = 3.0;    ///< projected-Gaussian footprint (chi^2, 2 dof)

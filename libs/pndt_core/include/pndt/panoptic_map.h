@@ -31,6 +31,8 @@ struct FrameStats
     uint64_t matched_instances = 0;
     uint64_t new_instances = 0;
     uint64_t ambiguous_instances = 0;
+    uint64_t split_predictions = 0;      ///< merged predictions split along map instances
+    uint64_t merged_fragments = 0;       ///< map instances merged into another one
     uint64_t semantic_updates = 0;
     uint64_t instance_updates = 0;
     uint64_t ray_steps = 0;              ///< voxels visited by the free-space rays
@@ -160,6 +162,22 @@ class PanopticMap
                  std::vector<LabelRecord> labels, std::vector<InstanceRecord> instance_records,
                  uint32_t next_instance_id);
 
+    /// Evidence for merging fragments (option fragment_merge_frames): for a pair
+    /// of map instances a < b, the frames one prediction covered both (joint) and
+    /// two covered them apart. Part of the map's state (saved with it).
+    struct PairEvidence
+    {
+        uint32_t a = 0, b = 0, joint = 0, apart = 0;
+        bool operator==(const PairEvidence& o) const
+        {
+            return a == o.a && b == o.b && joint == o.joint && apart == o.apart;
+        }
+    };
+    /// Sorted by (a, b).
+    std::vector<PairEvidence> pairEvidence() const;
+    /// Replaces it (after restore()).
+    void restorePairEvidence(const std::vector<PairEvidence>& evidence);
+
    private:
     struct Scratch;
     struct Propagation;
@@ -174,15 +192,23 @@ class PanopticMap
     void applyMisses(FrameStats& st);
     void matchInstances(const PanopticFrame& f, const Pose& T, FrameStats& st);
     void predictedBand(const PanopticFrame& f, int band, int bands);
-    void rasterizeVoxel(uint32_t voxel, const Pose& T_cam_world, const PanopticFrame& f, uint32_t* stamps,
-                        uint32_t stamp, uint64_t& area, uint64_t* inter);
+    /// vtou of one voxel: calls visit(pixel index, predicted local index or -1)
+    /// for each pixel of its footprint that passes the depth test.
+    template <class Visit>
+    void forEachMaskPixel(uint32_t voxel, const Pose& T_cam_world, const PanopticFrame& f, Visit&& visit);
+    void classifyMapInstances();
+    void collectFragmentEvidence();
+    void mergeFragments(FrameStats& st);
+    void splitMergedPredictions(const PanopticFrame& f, const Pose& T_cam_world, FrameStats& st);
     void updateHistograms(const PanopticFrame& f, FrameStats& st);
     void histogramTask(const PanopticFrame& f, int task);
     void resetVoxelContents(Voxel& v);
     void invalidate() { propagated_valid_ = false; }
     void ensurePropagated() const;
     /// The instance a voxel takes in propagation (pthing and its top id), or 0.
-    uint32_t propagatedInstance(const Voxel& v) const;
+    uint32_t propagatedInstance(uint32_t voxel) const;
+    uint32_t topInstance(const Voxel& v) const;
+    void classifyInstances() const;
 
     MapOptions options_;
     VoxelGrid grid_;
