@@ -277,11 +277,7 @@ void PanopticMap::classifyMapInstances()
     {
         std::fill(s.class_mass.begin(), s.class_mass.end(), 0.f);
         for (size_t c = s.groups[gi].first; c < s.groups[gi].second; ++c)
-        {
-            const LabelRecord& rec = *labelsOf(store_[s.candidates[c].second]);
-            for (int j = 0; j < rec.semantic.size; ++j)
-                if (classes.isThing(rec.semantic.ids[j])) s.class_mass[rec.semantic.ids[j]] += rec.semantic.weights[j];
-        }
+            addThingMass(*labelsOf(store_[s.candidates[c].second]), classes, s.class_mass.data());
         const auto best = std::max_element(s.class_mass.begin(), s.class_mass.end());
         if (*best > 0) s.group_class[gi] = uint16_t(best - s.class_mass.begin());
     }

@@ -25,8 +25,7 @@ void PanopticMap::classifyInstances() const
         const auto [it, inserted] = row_of.try_emplace(z, uint32_t(row_of.size()));
         if (inserted) class_mass.resize(class_mass.size() + C, 0.0);
         double* row = &class_mass[size_t(it->second) * C];
-        for (int j = 0; j < rec.semantic.size; ++j)
-            if (options_.classes.isThing(rec.semantic.ids[j])) row[rec.semantic.ids[j]] += rec.semantic.weights[j];
+        addThingMass(rec, options_.classes, row);
     }
     pr.instance_class.clear();
     pr.instance_class.reserve(row_of.size());

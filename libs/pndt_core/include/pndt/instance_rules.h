@@ -34,6 +34,15 @@ inline bool isPanopticThing(const LabelRecord& r, double theta_st, double theta_
     return isThing(r, theta_st) && r.n_l > 0 && double(r.n_z) >= theta_o * double(r.n_l);
 }
 
+/// Adds a voxel's thing-class mass of h^L to per-class sums (an instance's class
+/// is the argmax of these sums over its voxels).
+template <typename T>
+inline void addThingMass(const LabelRecord& r, const ClassSet& classes, T* per_class)
+{
+    for (int j = 0; j < r.semantic.size; ++j)
+        if (classes.isThing(r.semantic.ids[j])) per_class[r.semantic.ids[j]] += r.semantic.weights[j];
+}
+
 /// The thing class with the most mass in a voxel's own h^L, or 0 if it has none.
 inline uint16_t ownThingClass(const LabelRecord& r, const ClassSet& classes)
 {
