@@ -175,6 +175,16 @@ std::vector<RowSpec> makeRows(const Plan& plan)
     hi.theta_m = 0.3;
     hi.theta_n = 0.15;
     rows.push_back(mapRow("thr-0.3-0.15@" + cm(a), "ablation", "theta_M/theta_N = 0.3/0.15", a, Input::Network, hi));
+    MapOptions paper_rules = baseOptions(plan, a);
+    paper_rules.class_consistent_instances = false;
+    paper_rules.split_coverage = 0;
+    paper_rules.fragment_merge_frames = 0;
+    paper_rules.fragment_absorb_ratio = 0;
+    rows.push_back(mapRow("paper-instances@" + cm(a), "ablation", "the paper's instance rules", a, Input::Network,
+                          paper_rules));
+    MapOptions no_fill = baseOptions(plan, a);
+    no_fill.label_fill_distance = 0;
+    rows.push_back(mapRow("nofill-net@" + cm(a), "ablation", "w/o label fill", a, Input::Network, no_fill));
     // An ablation voxel size outside the main list still needs its reference rows.
     if (std::find(plan.voxels.begin(), plan.voxels.end(), a) == plan.voxels.end())
     {

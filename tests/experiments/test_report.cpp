@@ -58,7 +58,7 @@ TEST(ExperimentReport, RowsCoverTheTableShape)
     };
     for (const char* id : {"raw-net", "raw-gt", "ndt-net@5cm", "ndt-net@10cm", "ndt-net@20cm", "cube-net@10cm",
                            "noprop-net@10cm", "ndt-gt@20cm", "semonly-net@10cm", "thr-0.1-0.05@10cm",
-                           "thr-0.3-0.15@10cm"})
+                           "thr-0.3-0.15@10cm", "paper-instances@10cm", "nofill-net@10cm"})
         EXPECT_TRUE(has(id)) << id;
     EXPECT_FALSE(has("tuned-net@10cm"));
     for (const auto& r : rows)
@@ -70,6 +70,17 @@ TEST(ExperimentReport, RowsCoverTheTableShape)
         if (r.id == "thr-0.1-0.05@10cm")
         {
             EXPECT_DOUBLE_EQ(r.options.theta_m, 0.1);
+        }
+        if (r.id == "paper-instances@10cm")
+        {
+            EXPECT_FALSE(r.options.class_consistent_instances);
+            EXPECT_EQ(r.options.split_coverage, 0.0);
+            EXPECT_EQ(r.options.fragment_merge_frames, 0u);
+            EXPECT_EQ(r.options.fragment_absorb_ratio, 0.0);
+        }
+        if (r.id == "nofill-net@10cm")
+        {
+            EXPECT_EQ(r.options.label_fill_distance, 0.0);
         }
         if (r.id == "noprop-net@10cm")
         {

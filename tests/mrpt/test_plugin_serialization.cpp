@@ -126,6 +126,25 @@ TEST(PluginSerialization, RoundTripKeepsEveryVoxelFieldBitExact)
     }
 }
 
+TEST(PluginSerialization, RoundTripKeepsTheRulesBeyondThePaper)
+{
+    MapOptions o;
+    o.split_coverage = 0.25;
+    o.class_consistent_instances = false;
+    o.fragment_merge_frames = 7;
+    o.fragment_absorb_ratio = 0.3;
+    o.label_fill_distance = 0.55;
+    const PanopticNDTMap m(o);
+    const auto back = std::dynamic_pointer_cast<PanopticNDTMap>(deserialize(serialize(m)));
+    ASSERT_TRUE(back);
+    const MapOptions& b = back->core().options();
+    EXPECT_EQ(b.split_coverage, 0.25);
+    EXPECT_FALSE(b.class_consistent_instances);
+    EXPECT_EQ(b.fragment_merge_frames, 7u);
+    EXPECT_EQ(b.fragment_absorb_ratio, 0.3);
+    EXPECT_EQ(b.label_fill_distance, 0.55);
+}
+
 namespace
 {
 /// Reads a payload of a given serialisation version (MRPT keeps serializeFrom protected).

@@ -17,7 +17,9 @@ struct VoxelSpec
     std::vector<std::pair<uint32_t, float>> instances;
 };
 
-PanopticMap build(const std::vector<VoxelSpec>& specs, uint32_t next_id, MapOptions options = {})
+/// `at`: voxel keys along x (default: 5 apart, so no voxel touches another).
+PanopticMap build(const std::vector<VoxelSpec>& specs, uint32_t next_id, MapOptions options = {},
+                  std::vector<int32_t> at = {})
 {
     const ClassSet classes = ClassSet::nyuv2_40();
     std::vector<uint64_t> keys;
@@ -27,7 +29,7 @@ PanopticMap build(const std::vector<VoxelSpec>& specs, uint32_t next_id, MapOpti
     std::vector<InstanceRecord> inst;
     for (size_t i = 0; i < specs.size(); ++i)
     {
-        keys.push_back(VoxelKey{int32_t(i) * 5, 0, 0}.packed());  // far apart: no neighbours
+        keys.push_back(VoxelKey{at.empty() ? int32_t(i) * 5 : at[i], 0, 0}.packed());
         Voxel v;
         v.occ = 2.f;
         v.surface = uint32_t(surfaces.size());
@@ -130,4 +132,80 @@ TEST(Propagation, VoxelOfAnotherClassMovesToItsStrongestInstanceOfItsClass)
     paper.class_consistent_instances = false;
     const PanopticMap p = build(specs, 10, paper);
     EXPECT_EQ(p.panopticLabel(2), (PanopticLabel{kChair, 7}));
+}
+
+namespace
+{
+const VoxelSpec kChairVoxel7 = {{{kChair, 5.f}}, 10, 10, {{7, 4.f}}};
+const VoxelSpec kUnlabelled = {{}, 0, 0, {}};  // every view of it was below theta_L
+const VoxelSpec kWallVoxel = {{{kWall, 5.f}}, 10, 0, {}};
+}  // namespace
+
+TEST(Propagation, UnlabelledSurfaceTakesItsNeighboursLabelUpToTheFillDistance)
+{
+    // x = 0: chair of instance 7; x = 1, 2, 3 unlabelled. 0.2 m at 0.1 m voxels
+    // is two steps: x = 1 (from 0), then x = 2 (from 1); x = 3 stays void.
+    // x = 10 chair 7 and x = 12 wall, x = 11 between them: one vote each, the
+    // tie goes to the smaller <class, instance>: wall (1) before chair (5).
+    MapOptions o;
+    o.voxel_size = 0.1;
+    o.label_fill_distance = 0.2;
+    o.fragment_absorb_ratio = 0;
+    const std::vector<VoxelSpec> specs = {kChairVoxel7, kUnlabelled, kUnlabelled, kUnlabelled,
+                                          kChairVoxel7, kUnlabelled, kWallVoxel};
+    const std::vector<int32_t> at = {0, 1, 2, 3, 10, 11, 12};
+    const PanopticMap map = build(specs, 8, o, at);
+    EXPECT_EQ(map.panopticLabel(1), (PanopticLabel{kChair, 7}));
+    EXPECT_EQ(map.panopticLabel(2), (PanopticLabel{kChair, 7}));
+    EXPECT_EQ(map.panopticLabel(3), PanopticLabel{});
+    EXPECT_EQ(map.panopticLabel(5), (PanopticLabel{kWall, 0}));
+    EXPECT_EQ(map.semanticLabel(1), 0);  // the semantic output keeps what was observed
+    const auto inst = map.instances();
+    ASSERT_EQ(inst.size(), 1u);
+    EXPECT_EQ(inst[0].voxel_count, 4u);  // x = 0, 1, 2, 10
+
+    // Off: the paper's void.
+    o.label_fill_distance = 0;
+    const PanopticMap paper = build(specs, 8, o, at);
+    EXPECT_EQ(paper.panopticLabel(1), PanopticLabel{});
+    EXPECT_EQ(paper.instances()[0].voxel_count, 2u);
+}
+
+TEST(Propagation, SmallFragmentJoinsTheTouchingInstanceOfItsClass)
+{
+    // Instance 7: ten chair voxels x = 0..9. Instance 8: one chair voxel at x = 10,
+    // touching 7, 1 <= 0.15 * 10: joins 7. Instance 9: one chair voxel at x = 20,
+    // touching nothing: stays. Instance 11: a sofa voxel at x = -1, touching 7
+    // but of another class: stays.
+    MapOptions o;
+    o.voxel_size = 0.1;
+    o.label_fill_distance = 0;
+    std::vector<VoxelSpec> specs(10, kChairVoxel7);
+    std::vector<int32_t> at = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9};
+    specs.push_back({{{kChair, 5.f}}, 10, 10, {{8, 4.f}}});
+    at.push_back(10);
+    specs.push_back({{{kChair, 5.f}}, 10, 10, {{9, 4.f}}});
+    at.push_back(20);
+    specs.push_back({{{kSofa, 5.f}}, 10, 10, {{11, 4.f}}});
+    at.push_back(-1);
+    const PanopticMap map = build(specs, 12, o, at);
+    EXPECT_EQ(map.panopticLabel(10), (PanopticLabel{kChair, 7}));
+    EXPECT_EQ(map.panopticLabel(11), (PanopticLabel{kChair, 9}));
+    EXPECT_EQ(map.panopticLabel(12), (PanopticLabel{kSofa, 11}));
+    const auto inst = map.instances();
+    ASSERT_EQ(inst.size(), 3u);
+    EXPECT_EQ(inst[0].id, 7u);
+    EXPECT_EQ(inst[0].voxel_count, 11u);
+
+    // Two voxels are more than 0.15 of ten: a neighbour, not a fragment.
+    specs.push_back({{{kChair, 5.f}}, 10, 10, {{8, 4.f}}});
+    at.push_back(-2);  // instance 8 now has two voxels
+    const PanopticMap two = build(specs, 12, o, at);
+    EXPECT_EQ(two.panopticLabel(10), (PanopticLabel{kChair, 8}));
+
+    // Off: the paper keeps every instance.
+    o.fragment_absorb_ratio = 0;
+    specs.pop_back();
+    at.pop_back();
+    EXPECT_EQ(build(specs, 12, o, at).panopticLabel(10), (PanopticLabel{kChair, 8}));
 }

@@ -38,6 +38,8 @@ void MapOptions::validate() const
     require(unit(theta_n) && theta_n <= theta_m, "theta_n", "in [0, theta_m]");
     require(theta_o >= 0, "theta_o", ">= 0");
     require(split_coverage >= 0 && split_coverage <= 1, "split_coverage", "in [0, 1]");
+    require(fragment_absorb_ratio >= 0 && fragment_absorb_ratio < 1, "fragment_absorb_ratio", "in [0, 1)");
+    require(label_fill_distance >= 0 && label_fill_distance <= 100, "label_fill_distance", "in [0, 100] m");
     require(vtou_mahalanobis_sq > 0, "vtou_mahalanobis_sq", "positive");
     require(vtou_depth_tolerance > 0, "vtou_depth_tolerance", "positive");
     require(query_mahalanobis_sq > 0, "query_mahalanobis_sq", "positive");

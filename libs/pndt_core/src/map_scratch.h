@@ -253,6 +253,10 @@ struct PanopticMap::Propagation
     tsl::robin_map<uint32_t, uint16_t> instance_class;  ///< map instance -> its thing class
     /// Voxels that take another instance than their top one (class_consistent_instances).
     tsl::robin_map<uint32_t, uint32_t> instance_of_voxel;
+    /// Fragments joined to a touching instance of their class (fragment_absorb_ratio).
+    tsl::robin_map<uint32_t, uint32_t> absorbed_into;
+    /// Labels of occupied voxels without semantic evidence (label_fill_distance).
+    tsl::robin_map<uint32_t, PanopticLabel> filled;
     std::vector<MapInstance> instances;                 ///< sorted by id
 };
 

@@ -220,7 +220,10 @@ PanopticMap::MemoryUse PanopticMap::memoryUse() const
     m.labels = labels_.capacity() * sizeof(LabelRecord);
     m.instances = instance_records_.capacity() * sizeof(InstanceRecord);
     m.propagation = prop_->instance_class.bucket_count() * (sizeof(std::pair<uint32_t, uint16_t>) + 4) +
-                    prop_->instances.capacity() * sizeof(MapInstance);
+                    prop_->instances.capacity() * sizeof(MapInstance) +
+                    (prop_->instance_of_voxel.bucket_count() + prop_->absorbed_into.bucket_count()) *
+                        (sizeof(std::pair<uint32_t, uint32_t>) + 4) +
+                    prop_->filled.bucket_count() * (sizeof(std::pair<uint32_t, PanopticLabel>) + 4);
     return m;
 }
 

@@ -3,6 +3,8 @@
 #include <tsl/robin_map.h>
 
 #include <algorithm>
+#include <cmath>
+#include <tuple>
 
 #include "map_scratch.h"
 
@@ -43,6 +45,8 @@ void PanopticMap::ensurePropagated() const
     const size_t n = store_.size();
     pr.instances.clear();
     pr.instance_of_voxel.clear();
+    pr.absorbed_into.clear();
+    pr.filled.clear();
 
     // Pass 1: instance classes from the top instance of every voxel.
     classifyInstances();
@@ -75,6 +79,11 @@ void PanopticMap::ensurePropagated() const
         if (!pr.instance_of_voxel.empty()) classifyInstances();
     }
 
+    // Pass 1c: finalisation beyond the paper (map_options.h): fragments join
+    // their object, then unlabelled surface takes its labelled neighbours' label.
+    if (options_.fragment_absorb_ratio > 0) absorbFragments();
+    if (options_.label_fill_distance > 0) fillUnlabelled();
+
     // Pass 2: the instance summaries (centroid, extent, count).
     tsl::robin_map<uint32_t, uint32_t> summary_of;
     for (size_t i = 0; i < n; ++i)
@@ -105,12 +114,157 @@ void PanopticMap::ensurePropagated() const
 
 uint32_t PanopticMap::propagatedInstance(uint32_t voxel) const
 {
-    if (!prop_->instance_of_voxel.empty())
+    const Propagation& pr = *prop_;
+    const auto moved = pr.instance_of_voxel.empty() ? pr.instance_of_voxel.end() : pr.instance_of_voxel.find(voxel);
+    uint32_t z = moved != pr.instance_of_voxel.end() ? moved->second : topInstance(store_[voxel]);
+    if (z != 0 && !pr.absorbed_into.empty())
     {
-        const auto it = prop_->instance_of_voxel.find(voxel);
-        if (it != prop_->instance_of_voxel.end()) return it->second;
+        const auto it = pr.absorbed_into.find(z);
+        if (it != pr.absorbed_into.end()) z = it->second;
     }
-    return topInstance(store_[voxel]);
+    if (z == 0 && !pr.filled.empty())
+    {
+        const auto it = pr.filled.find(voxel);
+        if (it != pr.filled.end()) z = it->second.instance;
+    }
+    return z;
+}
+
+namespace
+{
+/// The 13 neighbour offsets after (0,0,0) in lexicographic order: with them
+/// every touching pair of voxels is visited once.
+constexpr int kForward[13][3] = {{0, 0, 1},  {0, 1, -1}, {0, 1, 0},  {0, 1, 1},  {1, -1, -1},
+                                 {1, -1, 0}, {1, -1, 1}, {1, 0, -1}, {1, 0, 0},  {1, 0, 1},
+                                 {1, 1, -1}, {1, 1, 0},  {1, 1, 1}};
+}  // namespace
+
+void PanopticMap::absorbFragments() const
+{
+    Propagation& pr = *prop_;
+    const size_t n = store_.size();
+    tsl::robin_map<uint32_t, uint32_t> size_of;
+    for (size_t i = 0; i < n; ++i)
+        if (const uint32_t z = propagatedInstance(uint32_t(i))) ++size_of[z];
+    if (size_of.size() < 2) return;
+
+    // Touching voxel pairs of two instances of one class.
+    tsl::robin_map<uint64_t, uint32_t> contacts;
+    for (size_t i = 0; i < n; ++i)
+    {
+        const uint32_t a = propagatedInstance(uint32_t(i));
+        if (a == 0) continue;
+        const VoxelKey k = store_.key(uint32_t(i));
+        for (const auto& d : kForward)
+        {
+            const uint32_t j = store_.find({k.x + d[0], k.y + d[1], k.z + d[2]});
+            if (j == kNoRecord) continue;
+            const uint32_t b = propagatedInstance(j);
+            if (b == 0 || b == a || pr.instance_class.at(a) != pr.instance_class.at(b)) continue;
+            ++contacts[(uint64_t(std::min(a, b)) << 32) | std::max(a, b)];
+        }
+    }
+    // A fragment joins the partner it is small against that it touches most
+    // (ties: the larger partner, then the older id). Partners are strictly
+    // larger, so following the joins ends.
+    struct Pick
+    {
+        uint32_t into = 0, contacts = 0, size = 0;
+    };
+    tsl::robin_map<uint32_t, Pick> pick;
+    for (const auto& [pair, c] : contacts)
+    {
+        const uint32_t ids[2] = {uint32_t(pair >> 32), uint32_t(pair)};
+        for (int s = 0; s < 2; ++s)
+        {
+            const uint32_t small = ids[s], large = ids[1 - s];
+            const uint32_t ns = size_of.at(small), nl = size_of.at(large);
+            if (double(ns) > options_.fragment_absorb_ratio * double(nl)) continue;
+            Pick& p = pick[small];
+            if (std::tie(c, nl) > std::tie(p.contacts, p.size) ||
+                (c == p.contacts && nl == p.size && large < p.into))
+                p = {large, c, nl};
+        }
+    }
+    for (const auto& [small, p] : pick)
+    {
+        uint32_t root = p.into;
+        for (auto it = pick.find(root); it != pick.end(); it = pick.find(root)) root = it->second.into;
+        pr.absorbed_into.emplace(small, root);
+    }
+}
+
+void PanopticMap::fillUnlabelled() const
+{
+    Propagation& pr = *prop_;
+    const int steps = int(std::ceil(options_.label_fill_distance / options_.voxel_size - 1e-9));
+    std::vector<uint32_t> todo;
+    for (size_t i = 0; i < store_.size(); ++i)
+    {
+        const Voxel& v = store_[uint32_t(i)];
+        const LabelRecord* rec = labelsOf(v);
+        if (isOccupied(v) && (!rec || rec->semantic.empty())) todo.push_back(uint32_t(i));
+    }
+    // The label a voxel passes on: its own (propagated) one, or one filled in an
+    // earlier step; voxels filled in this step pass nothing on yet.
+    const auto labelOf = [&](uint32_t j, PanopticLabel& out) {
+        const Voxel& v = store_[j];
+        if (!isOccupied(v)) return false;
+        const LabelRecord* rec = labelsOf(v);
+        if (rec && !rec->semantic.empty())
+        {
+            const uint32_t z = propagatedInstance(j);
+            out = z ? PanopticLabel{pr.instance_class.at(z), z} : PanopticLabel{rec->semantic.top(), 0};
+            return true;
+        }
+        const auto it = pr.filled.find(j);
+        if (it == pr.filled.end()) return false;
+        out = it->second;
+        return true;
+    };
+    std::vector<std::pair<uint32_t, PanopticLabel>> decided;
+    for (int step = 0; step < steps && !todo.empty(); ++step)
+    {
+        decided.clear();
+        size_t kept = 0;
+        for (const uint32_t u : todo)
+        {
+            // The most common label among the 26 neighbours; ties: the smallest
+            // <class, instance>, so the result does not depend on visiting order.
+            PanopticLabel seen[26];
+            int count[26] = {};
+            int distinct = 0;
+            const VoxelKey k = store_.key(u);
+            for (int dx = -1; dx <= 1; ++dx)
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dz = -1; dz <= 1; ++dz)
+                    {
+                        if (dx == 0 && dy == 0 && dz == 0) continue;
+                        const uint32_t j = store_.find({k.x + dx, k.y + dy, k.z + dz});
+                        PanopticLabel l;
+                        if (j == kNoRecord || !labelOf(j, l)) continue;
+                        int s = 0;
+                        while (s < distinct && !(seen[s] == l)) ++s;
+                        if (s == distinct) seen[distinct++] = l;
+                        ++count[s];
+                    }
+            if (distinct == 0)
+            {
+                todo[kept++] = u;
+                continue;
+            }
+            int best = 0;
+            for (int s = 1; s < distinct; ++s)
+                if (count[s] > count[best] ||
+                    (count[s] == count[best] && std::tie(seen[s].semantic, seen[s].instance) <
+                                                    std::tie(seen[best].semantic, seen[best].instance)))
+                    best = s;
+            decided.emplace_back(u, seen[best]);
+        }
+        todo.resize(kept);
+        if (decided.empty()) break;
+        for (const auto& [u, l] : decided) pr.filled.emplace(u, l);
+    }
 }
 
 uint32_t PanopticMap::topInstance(const Voxel& v) const
@@ -130,7 +284,12 @@ PanopticLabel PanopticMap::panopticLabel(uint32_t voxel) const
     const Voxel& v = store_[voxel];
     if (!isOccupied(v)) return {};
     const LabelRecord* rec = labelsOf(v);
-    if (!rec) return {};
+    if (!rec || rec->semantic.empty())
+    {
+        // No semantic evidence: void, or what label_fill_distance gave it.
+        const auto it = prop_->filled.find(voxel);
+        return it == prop_->filled.end() ? PanopticLabel{} : it->second;
+    }
     // pthing voxels take <the instance's class, the instance>; all others <argmax h^L, 0>.
     const uint32_t z = propagatedInstance(voxel);
     if (z == 0) return {rec->semantic.top(), 0};

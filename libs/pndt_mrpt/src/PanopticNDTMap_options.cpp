@@ -87,6 +87,8 @@ void loadMapOptions(const mrpt::config::CConfigFileBase& c, const std::string& s
     s.read("split_coverage", o.split_coverage);
     s.read("class_consistent_instances", o.class_consistent_instances);
     s.read("fragment_merge_frames", o.fragment_merge_frames);
+    s.read("fragment_absorb_ratio", o.fragment_absorb_ratio);
+    s.read("label_fill_distance", o.label_fill_distance);
     s.read("vtou_mahalanobis_sq", o.vtou_mahalanobis_sq);
     s.read("vtou_depth_tolerance", o.vtou_depth_tolerance);
     s.read("query_mahalanobis_sq", o.query_mahalanobis_sq);
@@ -115,12 +117,14 @@ void dumpMapOptions(const MapOptions& o, std::ostream& out)
         "log_odds_min = {}\nlog_odds_max = {}\nndt_min_samples = {}\nndt_sample_cap = {}\n"
         "ndt_min_sigma_ratio = {}\nmiss_min_likelihood = {}\nmiss_likelihood_scale = {}\nsensor_sigma_base = {}\n"
         "sensor_sigma_quadratic = {}\ntheta_l = {}\ntheta_z = {}\ntheta_st = {}\ntheta_b = {}\ntheta_m = {}\n"
-        "theta_n = {}\ntheta_o = {}\nsplit_coverage = {}\nclass_consistent_instances = {}\nfragment_merge_frames = {}\nvtou_mahalanobis_sq = {}\nvtou_depth_tolerance = {}\n"
+        "theta_n = {}\ntheta_o = {}\nsplit_coverage = {}\nclass_consistent_instances = {}\nfragment_merge_frames = {}\n"
+        "fragment_absorb_ratio = {}\nlabel_fill_distance = {}\nvtou_mahalanobis_sq = {}\nvtou_depth_tolerance = {}\n"
         "query_mahalanobis_sq = {}\nthreads = {}\nclasses = {}\n",
         o.voxel_size, o.max_range, o.use_ndt, rayModeName(o.ray_mode), o.log_odds_hit, o.log_odds_miss,
         o.log_odds_min, o.log_odds_max, o.ndt_min_samples, o.ndt_sample_cap, o.ndt_min_sigma_ratio,
         o.miss_min_likelihood, o.miss_likelihood_scale, o.sensor_sigma_base, o.sensor_sigma_quadratic, o.theta_l,
-        o.theta_z, o.theta_st, o.theta_b, o.theta_m, o.theta_n, o.theta_o, o.split_coverage, o.class_consistent_instances, o.fragment_merge_frames, o.vtou_mahalanobis_sq,
+        o.theta_z, o.theta_st, o.theta_b, o.theta_m, o.theta_n, o.theta_o, o.split_coverage, o.class_consistent_instances, o.fragment_merge_frames,
+        o.fragment_absorb_ratio, o.label_fill_distance, o.vtou_mahalanobis_sq,
         o.vtou_depth_tolerance, o.query_mahalanobis_sq, o.threads, o.classes.size());
 }
 

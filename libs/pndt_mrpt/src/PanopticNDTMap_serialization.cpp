@@ -1,7 +1,9 @@
 // Versioned MRPT serialisation of PanopticNDTMap. Every voxel field is written
 // raw, so a round trip is bit-exact.
 //
-// Version 2 (written): version 1 with the map options split_coverage (f64),
+// Version 3 (written): version 2 with the map options fragment_absorb_ratio
+// (f64) and label_fill_distance (f64) after fragment_merge_frames.
+// Version 2 (read): version 1 with the map options split_coverage (f64),
 // class_consistent_instances (bool) and fragment_merge_frames (u32) after the
 // class set, and at the end the fragment evidence: count (u64), then instance a,
 // instance b, joint, apart (u32 arrays).
@@ -42,6 +44,7 @@ void writeOptions(CArchive& a, const MapOptions& o)
     a << uint32_t(o.classes.size());
     for (const auto& c : o.classes.classes()) a << c.name << c.is_thing;
     a << o.split_coverage << o.class_consistent_instances << o.fragment_merge_frames;
+    a << o.fragment_absorb_ratio << o.label_fill_distance;
 }
 
 MapOptions readOptions(CArchive& a, uint8_t version)
@@ -63,6 +66,7 @@ MapOptions readOptions(CArchive& a, uint8_t version)
     o.classes = ClassSet(std::move(classes));
     // Older maps take today's defaults: the rules work on the stored histograms.
     if (version >= 2) a >> o.split_coverage >> o.class_consistent_instances >> o.fragment_merge_frames;
+    if (version >= 3) a >> o.fragment_absorb_ratio >> o.label_fill_distance;
     o.validate();
     return o;
 }
@@ -87,7 +91,7 @@ uint64_t readCount(CArchive& a, const char* what, uint64_t max)
 }
 }  // namespace
 
-uint8_t PanopticNDTMap::serializeGetVersion() const { return 2; }
+uint8_t PanopticNDTMap::serializeGetVersion() const { return 3; }
 
 void PanopticNDTMap::serializeTo(CArchive& out) const
 {
@@ -205,6 +209,7 @@ void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
         case 0:
         case 1:
         case 2:
+        case 3:
         {
             const char* stage = "header";
             try

@@ -24,13 +24,15 @@ Rgb heightColor(double z)
 Rgb voxelColor(const PanopticMap& map, uint32_t voxel, ColorMode mode)
 {
     const PanopticLabel pl = map.panopticLabel(voxel);
-    if (map.semanticLabel(voxel) == 0 && pl.instance == 0)
+    const uint16_t semantic = map.semanticLabel(voxel);
+    if (semantic == 0 && pl.semantic == 0 && pl.instance == 0)
     {
         return heightColor(map.pointOf(voxel).z());
     }
     switch (mode)
     {
-        case ColorMode::Semantic: return classColor(map.semanticLabel(voxel));
+        // A voxel without semantic evidence shows the class label_fill_distance gave it.
+        case ColorMode::Semantic: return classColor(semantic != 0 ? semantic : pl.semantic);
         case ColorMode::Instance: return instanceColor(pl.instance);
         case ColorMode::Panoptic:
         default: return pl.instance != 0 ? instanceColor(pl.instance) : classColor(pl.semantic);

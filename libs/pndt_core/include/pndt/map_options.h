@@ -61,8 +61,20 @@ struct MapOptions
     /// in at least this many frames, and more than twice as often as two
     /// predictions covered them apart, are one object split early on: they are
     /// merged into the older id. 0 = off (the paper: fragments only heal through
-    /// the histograms). The evidence lives with the map in memory, not in files.
+    /// the histograms). The evidence is map state: copied and serialised with it.
     uint32_t fragment_merge_frames = 3;
+
+    // --- finalisation (at propagation; the histograms stay as integrated)
+    /// A map instance with at most this share of the voxels of a touching
+    /// instance of its class is a fragment of it and joins it: the part of an
+    /// object first seen apart, e.g. while the network confused its class, so no
+    /// prediction ever covered both. 0 = off (the paper).
+    double fragment_absorb_ratio = 0.15;
+    /// Occupied voxels without semantic evidence (every view of them was below
+    /// theta_L) take the most common panoptic label of their labelled
+    /// 26-neighbours, growing from labelled surface up to this distance in
+    /// metres. Only the panoptic output changes; 0 = off (the paper: void).
+    double label_fill_distance = 0.3;
 
     // --- back-projection and queries
     double vtou_mahalanobis_sq = 3.0;    ///< projected-Gaussian footprint (chi^2, 2 dof)

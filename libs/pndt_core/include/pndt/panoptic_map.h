@@ -209,6 +209,8 @@ class PanopticMap
     uint32_t propagatedInstance(uint32_t voxel) const;
     uint32_t topInstance(const Voxel& v) const;
     void classifyInstances() const;
+    void absorbFragments() const;
+    void fillUnlabelled() const;
 
     MapOptions options_;
     VoxelGrid grid_;
