@@ -1,6 +1,7 @@
 // Procedural indoor scenes (pndt_sim additions): determinism, class variety, sane layout.
 #include <gtest/gtest.h>
 #include <pndt/sim/indoor_scene.h>
+#include <pndt/class_set.h>
 #include <pndt/sim/nyu40_extra.h>
 #include <pndt/sim/scene_objects.h>
 #include <pndt/types.h>
@@ -106,7 +107,7 @@ TEST(IndoorScene, ManyThingClassesAndRequiredFurniture)
     for (uint16_t c : {n::kChair, n::kSofa, n::kTable,     n::kCabinet,    n::kShelves,    n::kBookshelf, n::kBed,
                        n::kLamp,  n::kDesk, n::kCounter,   n::kDoor,       n::kWindow,     n::kPicture,   n::kPillow,
                        n::kBooks, n::kBox,  n::kOtherProp, n::kTelevision, n::kNightStand, n::kCurtain})
-        EXPECT_TRUE(all.count(c)) << "no " << n::className(c) << " in any preset";
+        EXPECT_TRUE(all.count(c)) << "no " << ClassSet::nyuv2_40().name(c) << " in any preset";
     EXPECT_GE(all.size(), 25u);
 }
 
@@ -170,8 +171,8 @@ TEST(IndoorScene, LayoutIsPhysicallyPlausible)
                 const Primitive &P = s.primitives[a], &Q = s.primitives[b];
                 if (P.instance == Q.instance || !primitiveBounds(P).intersects(primitiveBounds(Q))) continue;
                 EXPECT_FALSE(interpenetrate(P, Q))
-                    << s.name << ": objects " << P.instance << " (" << nyu40::className(P.semantic) << ") and "
-                    << Q.instance << " (" << nyu40::className(Q.semantic) << ") interpenetrate";
+                    << s.name << ": objects " << P.instance << " (" << ClassSet::nyuv2_40().name(P.semantic) << ") and "
+                    << Q.instance << " (" << ClassSet::nyuv2_40().name(Q.semantic) << ") interpenetrate";
             }
     }
 }

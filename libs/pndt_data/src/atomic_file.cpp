@@ -1,6 +1,6 @@
 #include "pndt/data/atomic_file.h"
 
-#include <unistd.h>
+#include <pndt/io/atomic_file.h>
 
 #include <cerrno>
 #include <cstring>
@@ -15,16 +15,19 @@ namespace pndt::data
 void writeFileAtomic(const std::string& path, const std::function<void(std::ostream&)>& fill)
 {
     const fs::path p(path);
-    std::error_code ec;
     if (p.has_parent_path())
     {
-        fs::create_directories(p.parent_path(), ec);
-        if (ec)
-            throw std::runtime_error(path + ": cannot create folder " + p.parent_path().string() + ": " + ec.message());
+        try
+        {
+            io::ensureDirectory(p.parent_path().string());
+        }
+        catch (const io::WriteError& e)
+        {
+            throw std::runtime_error(path + ": " + e.what());
+        }
     }
-    const std::string tmp = path + ".tmp." + std::to_string(::getpid());
-    try
-    {
+    // pndt::io does the temporary, fsync and rename; this adds folders and streams.
+    io::writeFileAtomically(path, [&](const std::string& tmp) {
         std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
         if (!out) throw std::runtime_error(path + ": cannot open " + tmp + " for writing: " + std::strerror(errno));
         fill(out);
@@ -32,14 +35,7 @@ void writeFileAtomic(const std::string& path, const std::function<void(std::ostr
         if (!out) throw std::runtime_error(path + ": write failed (disk full?)");
         out.close();
         if (out.fail()) throw std::runtime_error(path + ": closing the file failed");
-        fs::rename(tmp, path, ec);
-        if (ec) throw std::runtime_error(path + ": cannot rename " + tmp + " into place: " + ec.message());
-    }
-    catch (...)
-    {
-        fs::remove(tmp, ec);
-        throw;
-    }
+    });
 }
 
 void writeFileAtomic(const std::string& path, const std::string& bytes)

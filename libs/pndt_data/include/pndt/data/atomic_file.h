@@ -1,7 +1,7 @@
-// Atomic file writes for every generator output: the content goes to
-// "<path>.tmp.<pid>" in the same folder and is renamed over <path> only when complete,
-// so readers never see half-written files. Parent folders are created. Every failure
-// throws std::runtime_error whose message starts with the file's path.
+// Atomic file writes for every generator output, on top of pndt::io's
+// writeFileAtomically (temporary in the same folder, fsync, rename): this adds the
+// parent folders and a streaming producer. Every failure throws std::runtime_error
+// whose message names the file.
 #pragma once
 
 #include <functional>

@@ -1,4 +1,5 @@
-// NYUv2-40 semantic class ids used by the synthetic scenes (0 = void).
+// NYUv2-40 semantic class ids used by the synthetic scenes (0 = void). Their
+// names and stuff/thing split for users: pndt::ClassSet::nyuv2_40() (pndt_core).
 #pragma once
 
 #include <cstdint>
@@ -26,21 +27,5 @@ constexpr uint16_t kOtherProp = 40;
 
 /// Number of classes including void (ids 0..40).
 constexpr int kNumClasses = 41;
-
-/// Human-readable class name for an id in 0..40; "invalid" otherwise.
-inline const char* className(uint16_t id)
-{
-    static const char* const kNames[kNumClasses] = {
-        "void",          "wall",        "floor",         "cabinet",        "bed",
-        "chair",         "sofa",        "table",         "door",           "window",
-        "bookshelf",     "picture",     "counter",       "blinds",         "desk",
-        "shelves",       "curtain",     "dresser",       "pillow",         "mirror",
-        "floor mat",     "clothes",     "ceiling",       "books",          "refrigerator",
-        "television",    "paper",       "towel",         "shower curtain", "box",
-        "whiteboard",    "person",      "night stand",   "toilet",         "sink",
-        "lamp",          "bathtub",     "bag",           "otherstructure", "otherfurniture",
-        "otherprop"};
-    return id < kNumClasses ? kNames[id] : "invalid";
-}
 
 }  // namespace pndt::sim::nyu40
