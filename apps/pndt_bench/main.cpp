@@ -95,17 +95,11 @@ uint64_t stateHash(const PanopticMap& m)
     return f.h;
 }
 
-/// How much faster a trivially parallel integer loop runs on `threads` threads
-/// than on one, right now: the ceiling for any multi-threaded speed-up on a
-/// machine shared with other work.
-double parallelCeiling(int threads)
+/// How much faster `loop(n)` runs as `threads` threads doing n / threads each
+/// than as one thread doing n, right now.
+template <class Loop>
+double parallelSpeedup(int threads, uint64_t n, Loop loop)
 {
-    const auto loop = [](uint64_t n) {
-        uint64_t x = 1;
-        for (uint64_t i = 0; i < n; ++i) x = x * 6364136223846793005ull + 1442695040888963407ull;
-        return x;
-    };
-    const uint64_t n = 200'000'000;
     volatile uint64_t sink = 0;
     auto t0 = Clock::now();
     sink = sink + loop(n);
@@ -118,6 +112,51 @@ double parallelCeiling(int threads)
     const double many = since(t0);
     for (uint64_t v : out) sink = sink + v;
     return one / many;
+}
+
+/// The ceiling for any multi-threaded speed-up on a machine shared with other
+/// work, for three kinds of trivially parallel loops: a dependent multiply chain
+/// (latency-bound: scales even on two hyper-threads of one core), eight
+/// independent chains (throughput-bound: scales only on separate cores) and
+/// random reads in a 4 MB table (the size of a 10 cm map's hot data).
+struct Ceilings
+{
+    double chain = 1, independent = 1, random_reads = 1;
+    std::string text() const
+    {
+        return fmt::format("dependent chain x{:.2f}, independent chains x{:.2f}, random reads in 4 MB x{:.2f}", chain,
+                           independent, random_reads);
+    }
+};
+
+Ceilings parallelCeilings(int threads)
+{
+    constexpr uint64_t kA = 6364136223846793005ull, kC = 1442695040888963407ull;
+    Ceilings c;
+    if (threads < 2) return c;
+    c.chain = parallelSpeedup(threads, 200'000'000, [](uint64_t n) {
+        uint64_t x = 1;
+        for (uint64_t i = 0; i < n; ++i) x = x * kA + kC;
+        return x;
+    });
+    c.independent = parallelSpeedup(threads, 400'000'000, [](uint64_t n) {
+        uint64_t a[8] = {1, 2, 3, 4, 5, 6, 7, 8};
+        for (uint64_t i = 0; i < n / 8; ++i)
+            for (uint64_t& x : a) x = x * kA + kC;
+        return a[0] ^ a[1] ^ a[2] ^ a[3] ^ a[4] ^ a[5] ^ a[6] ^ a[7];
+    });
+    std::vector<uint32_t> table(1u << 20);
+    for (size_t i = 0; i < table.size(); ++i) table[i] = uint32_t(i * 2654435761u);
+    c.random_reads = parallelSpeedup(threads, 100'000'000, [&table](uint64_t n) {
+        uint64_t x = 12345, sum = 0;
+        for (uint64_t i = 0; i < n; ++i)
+        {
+            x = x * kA + 1;
+            sum += table[(x >> 40) & (table.size() - 1)];
+        }
+        return sum;
+    });
+    return c;
 }
 
 struct PanopticRun
@@ -317,9 +356,8 @@ int main(int argc, char** argv)
     fmt::print("pndt-bench: {} frames per run, median of {} runs; {} hardware threads ({}); label noise {}\n", frames,
                repeat, std::thread::hardware_concurrency(), cpu, label_noise);
     const int all = int(std::max(1u, std::thread::hardware_concurrency()));
-    const double ceiling_before = all > 1 ? parallelCeiling(all) : 1.0;
-    fmt::print("parallel ceiling now: a trivially parallel loop runs x{:.2f} faster on {} threads than on 1\n",
-               ceiling_before, all);
+    const Ceilings ceiling_before = parallelCeilings(all);
+    fmt::print("parallel ceiling now ({} threads vs 1): {}\n", all, ceiling_before.text());
 
     std::vector<Summary> summaries;
     for (const std::string& res : resolutions)
@@ -484,10 +522,9 @@ int main(int argc, char** argv)
                          r.mem.voxels / v, r.mem.surfaces / v, r.surfaces, r.mem.labels / v, r.labels,
                          r.mem.instances / v, r.instances, r.mem.propagation / v);
     }
-    const double ceiling_after = all > 1 ? parallelCeiling(all) : 1.0;
-    t += fmt::format("\nParallel ceiling (a trivially parallel integer loop, {} threads vs 1): x{:.2f} before the "
-                     "run, x{:.2f} after it.\n",
-                     all, ceiling_before, ceiling_after);
+    const Ceilings ceiling_after = parallelCeilings(all);
+    t += fmt::format("\nParallel ceiling (trivially parallel loops, {} threads vs 1): before the run {}; after it {}.\n",
+                     all, ceiling_before.text(), ceiling_after.text());
     fmt::print("\n{}\npeak RSS of the whole run {:.0f} MB\n", t, statusKb("VmHWM:") / 1024.0);
     if (!markdown.empty())
     {
