@@ -284,7 +284,10 @@ TEST(PndtMapCli, KilledMidRunLeavesNoHalfWrittenMap)
         ::kill(pid, SIGKILL);
         waitExit(pid);
         expectAllMapsLoad(maps, 0);
-        if (fs::exists(maps / "index.json")) EXPECT_NO_THROW(readJson(maps / "index.json"));
+        if (fs::exists(maps / "index.json"))
+        {
+            EXPECT_NO_THROW(readJson(maps / "index.json"));
+        }
     }
 }
 

@@ -88,7 +88,10 @@ TEST(ShortTermMaps, OneFilePerPeriodEachEqualToTheMapOfItsFrames)
         // The same frames into a fresh map: frames [first, last] of that map.
         const size_t first = size_t(e.t_start), last = size_t(e.t_end);
         EXPECT_EQ(e.frames, last - first + 1);
-        if (k > 0) EXPECT_EQ(first, 6 * k - 3) << "warm-up starts half a period early";
+        if (k > 0)
+        {
+            EXPECT_EQ(first, 6 * k - 3) << "warm-up starts half a period early";
+        }
         PanopticNDTMap ref;
         for (size_t i = first; i <= last; ++i) ref.integrate(data.frames[i], data.poses[i]);
         EXPECT_TRUE(sameVoxels(loaded->core(), ref.core())) << e.file;

@@ -266,11 +266,16 @@ TEST(PluginSerialization, TruncatedArchivesFailWithAMessage)
         catch (const std::exception& e)
         {
             // Before the class name is complete only MRPT can say what is wrong.
-            if (cut >= 40) EXPECT_NE(std::string(e.what()).find("PanopticNDTMap"), std::string::npos) << e.what();
+            if (cut >= 40)
+            {
+                EXPECT_NE(std::string(e.what()).find("PanopticNDTMap"), std::string::npos) << e.what();
+            }
             // Inside our payload our own message says where; the last byte is
             // MRPT's end-of-object marker, reported by MRPT itself as EOF.
             if (cut > 100 && cut + 1 < bytes.size())
+            {
                 EXPECT_NE(std::string(e.what()).find("truncated or corrupt"), std::string::npos) << e.what();
+            }
         }
     }
 }
