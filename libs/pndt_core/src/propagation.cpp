@@ -196,6 +196,7 @@ void PanopticMap::absorbFragments() const
 
 void PanopticMap::fillUnlabelled() const
 {
+    if (labels_.empty()) return;  // a geometry-only map has nothing to pass on
     Propagation& pr = *prop_;
     const int steps = int(std::ceil(options_.label_fill_distance / options_.voxel_size - 1e-9));
     std::vector<uint32_t> todo;
