@@ -9,6 +9,7 @@
 
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 
 using namespace pndt;
 using namespace pndt::app;
@@ -98,6 +99,30 @@ TEST(ShortTermMaps, OneFilePerPeriodEachEqualToTheMapOfItsFrames)
         EXPECT_EQ(loaded->core().instances().size(), e.instances);
     }
     EXPECT_TRUE(fs::exists(fs::path(o.out_dir) / "index.json"));
+    fs::remove_all(o.out_dir);
+}
+
+TEST(ShortTermMaps, AFailedBackgroundWriteIsReportedNamingTheFile)
+{
+    const Frames data = roomFrames(12);
+    ShortTermOptions o;
+    o.period = 6;
+    o.period_in_frames = true;
+    o.out_dir = tempDir().string();
+    ShortTermMaps maps([] { return PanopticNDTMap::Create(); }, o);
+    // The output folder turns into a file: the first map's write fails on the writer thread.
+    fs::remove_all(o.out_dir);
+    std::ofstream(o.out_dir) << "in the way";
+    for (size_t i = 0; i < data.frames.size(); ++i) maps.integrate(data.frames[i], data.poses[i], double(i));
+    try
+    {
+        maps.finish();
+        FAIL() << "expected the write error";
+    }
+    catch (const std::exception& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("map_0000.pndt.gz"), std::string::npos) << e.what();
+    }
     fs::remove_all(o.out_dir);
 }
 

@@ -18,6 +18,16 @@ ShortTermMaps::ShortTermMaps(Factory make_map, ShortTermOptions options)
     if (options_.write_files) std::filesystem::create_directories(options_.out_dir);
 }
 
+ShortTermMaps::~ShortTermMaps()
+{
+    if (writer_.valid()) writer_.wait();
+}
+
+void ShortTermMaps::waitForWriter()
+{
+    if (writer_.valid()) writer_.get();  // rethrows the writer's error
+}
+
 void ShortTermMaps::feed(Slot& s, const PanopticFrame& f, const Pose& T, double t)
 {
     if (!s.map)
@@ -70,11 +80,14 @@ void ShortTermMaps::finish()
     if (finished_) return;
     finished_ = true;
     if (current_.map) write(current_);
+    waitForWriter();
 }
 
 void ShortTermMaps::write(const Slot& s)
 {
     const auto t0 = std::chrono::steady_clock::now();
+    // Finalised here: the hand-over reads the propagated labels (carryInstanceIds),
+    // and afterwards the writer only reads the map.
     s.map->flushPending();
     s.map->core().finalize();
     MapIndexEntry e;
@@ -84,13 +97,11 @@ void ShortTermMaps::write(const Slot& s)
     e.frames = s.frames;
     e.voxels = s.map->core().voxels().size();
     e.instances = s.map->core().instances().size();
+    const std::string ply = fmt::format("{}_{:04d}.ply", options_.prefix, index_.size());
+    index_.push_back(e);
     if (options_.write_files)
     {
-        const std::filesystem::path dir(options_.out_dir);
-        saveArchive(*s.map, (dir / e.file).string());
-        if (options_.write_ply)
-            writePly(*s.map, (dir / fmt::format("{}_{:04d}.ply", options_.prefix, index_.size())).string());
-        index_.push_back(e);
+        waitForWriter();  // one map at a time, so index.json only ever grows
         nlohmann::json j = nlohmann::json::array();
         for (const auto& x : index_)
             j.push_back({{"file", x.file},
@@ -99,14 +110,19 @@ void ShortTermMaps::write(const Slot& s)
                          {"frames", x.frames},
                          {"voxels", x.voxels},
                          {"instances", x.instances}});
-        io::writeFileAtomically((dir / "index.json").string(), [&](const std::string& tmp) {
-            std::ofstream f(tmp);
-            f << std::setprecision(17) << j.dump(2) << "\n";
-            if (!f) throw std::runtime_error("cannot write " + tmp);
+        const std::filesystem::path dir(options_.out_dir);
+        writer_ = std::async(std::launch::async, [map = s.map, dir, file = e.file, ply, index = j.dump(2),
+                                                  write_ply = options_.write_ply] {
+            saveArchive(*map, (dir / file).string());
+            if (write_ply) writePly(*map, (dir / ply).string());
+            // Listed only once its files are complete.
+            io::writeFileAtomically((dir / "index.json").string(), [&](const std::string& tmp) {
+                std::ofstream f(tmp);
+                f << index << "\n";
+                if (!f) throw std::runtime_error("cannot write " + tmp);
+            });
         });
     }
-    else
-        index_.push_back(e);
     seconds_writing_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 

@@ -1,11 +1,14 @@
 // Rolling short-term maps (design §7): every period the current map is
 // finalised, written atomically and replaced by a successor that has already
-// been warming up, so a consumer never sees an empty map.
+// been warming up, so a consumer never sees an empty map. Writing a finished
+// map (archive, PLY, index.json) runs on a background thread, one map at a
+// time and in order, so mapping does not stall on the disk at hand-over.
 #pragma once
 
 #include <pndt/mrpt/PanopticNDTMap.h>
 
 #include <functional>
+#include <future>
 #include <string>
 #include <vector>
 
@@ -37,19 +40,26 @@ class ShortTermMaps
    public:
     using Factory = std::function<PanopticNDTMap::Ptr()>;
     ShortTermMaps(Factory make_map, ShortTermOptions options);
+    /// Waits for a map still being written (its error, if any, is lost: call finish()).
+    ~ShortTermMaps();
+    ShortTermMaps(const ShortTermMaps&) = delete;
+    ShortTermMaps& operator=(const ShortTermMaps&) = delete;
 
     /// Integrates a frame taken at sensor time `t`; may hand over to the next map.
     void integrate(const PanopticFrame& frame, const Pose& T_world_cam, double t);
 
     /// The map consumers should use now (nullptr before the first frame).
     PanopticNDTMap::Ptr current() const { return current_.map; }
-    /// Finalises and writes the current map (end of input, Ctrl-C). Idempotent.
+    /// Finalises and writes the current map (end of input, Ctrl-C) and waits
+    /// until every map is on disk. Idempotent. A write that failed in the
+    /// background is rethrown here or at the next hand-over.
     void finish();
 
     const std::vector<MapIndexEntry>& index() const { return index_; }
     /// Stats of every frame integrated into any map (warm-up frames count twice).
     const FrameStats& totals() const { return totals_; }
-    /// Seconds spent finalising and writing maps.
+    /// Seconds the mapping thread spent on finished maps: finalising them and
+    /// waiting for the previous write (the writing itself runs beside mapping).
     double secondsWriting() const { return seconds_writing_; }
     uint64_t framesSeen() const { return frames_; }
 
@@ -71,6 +81,7 @@ class ShortTermMaps
     void startSuccessor(double t);
     void feed(Slot& s, const PanopticFrame& f, const Pose& T, double t);
     void write(const Slot& s);
+    void waitForWriter();
 
     Factory make_map_;
     ShortTermOptions options_;
@@ -81,6 +92,7 @@ class ShortTermMaps
     std::vector<MapIndexEntry> index_;
     FrameStats totals_;
     double seconds_writing_ = 0;
+    std::future<void> writer_;  ///< the map being written, if any
 };
 
 }  // namespace pndt::app
