@@ -1,11 +1,9 @@
 #include "rawlog_map.h"
 
-#include <fmt/format.h>
-#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CObservationRobotPose.h>
-#include <mrpt/serialization/CArchive.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <pndt/app/observation_stream.h>
 #include <pndt/mrpt/map_files.h>
 #include <pndt/mrpt/observation_frame.h>
 
@@ -48,29 +46,15 @@ RawlogMapResult mapRawlog(const std::string& path, PanopticNDTMap& map, const Ra
                           const std::function<void(size_t)>& progress)
 {
     RawlogMapResult res;
-    mrpt::io::CFileGZInputStream in;
-    if (!in.open(path)) throw std::runtime_error(path + ": cannot open rawlog");
-    auto ar = mrpt::serialization::archiveFrom(in);
+    app::ObservationStream in(path);  // either rawlog format; says where a damaged file stops
     std::optional<mrpt::obs::CObservationRobotPose> latest;
     for (;;)
     {
         if (o.max_scans && res.scans >= o.max_scans) break;
-        mrpt::serialization::CSerializable::Ptr obj;
         const auto t_read = Clock::now();
-        try
-        {
-            ar >> obj;
-        }
-        catch (const mrpt::serialization::CExceptionEOF&)
-        {
-            break;
-        }
-        catch (const std::exception& e)
-        {
-            throw std::runtime_error(fmt::format("{}: cannot read object {}: {}", path, res.objects + 1, e.what()));
-        }
+        const mrpt::obs::CObservation::Ptr obj = in.next();
         res.seconds_read += since(t_read);
-        ++res.objects;
+        if (!obj) break;
 
         if (auto pose = std::dynamic_pointer_cast<mrpt::obs::CObservationRobotPose>(obj))
         {
@@ -110,6 +94,8 @@ RawlogMapResult mapRawlog(const std::string& path, PanopticNDTMap& map, const Ra
         else
             ++res.other_objects;
     }
+    res.objects = in.objectsRead();
+    if (in.truncated()) throw std::runtime_error(in.stopReason());
     const auto t_map = Clock::now();
     map.flushPending();
     res.seconds_map += since(t_map);

@@ -37,8 +37,9 @@ struct RawlogMapResult
 };
 
 /// Maps every scan of `path` with the latest robot pose (scan.sensorPose applied by the map).
-/// `progress(scans_seen)` is called after each scan. Throws std::runtime_error naming the file if
-/// it cannot be opened or holds an object that cannot be deserialised.
+/// `progress(scans_seen)` is called after each scan. Reads either rawlog format (observations or
+/// sensory frames) through pndt::app::ObservationStream. Throws std::runtime_error naming the file
+/// if it cannot be opened, or, with the object number and byte, if it is truncated or corrupt.
 RawlogMapResult mapRawlog(const std::string& path, PanopticNDTMap& map, const RawlogMapOptions& options = {},
                           const std::function<void(size_t)>& progress = {});
 

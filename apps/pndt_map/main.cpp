@@ -240,9 +240,18 @@ int main(int argc, char** argv)
 
         // ---- what is in the final map
         const auto final_map = maps.current();
-        if (!final_map) throw std::runtime_error(fmt::format("{}: no frame could be mapped ({} range scans, {} without "
-                                                             "a pose within {} s)",
-                                                             input, scans, no_pose, settings.pose_max_gap));
+        if (!final_map)
+        {
+            if (stream && stream->truncated())
+            {
+                fmt::print(stderr, "pndt-map: {}\npndt-map: no frame before that point could be mapped\n",
+                           stream->stopReason());
+                return kExitTruncated;
+            }
+            throw std::runtime_error(fmt::format("{}: no frame could be mapped ({} range scans, {} without a pose "
+                                                 "within {} s)",
+                                                 input, scans, no_pose, settings.pose_max_gap));
+        }
         (void)track;
         fs::create_directories(out_dir);
         const PanopticMap& core = final_map->core();

@@ -6,6 +6,7 @@
 
 #include "convert.h"
 #include "convert_fixtures.h"
+#include "rawlog_map.h"
 
 using namespace pndt;
 using namespace pndt::convert;
@@ -407,4 +408,32 @@ TEST_F(ConvertRedwood, RtabmapRawPosesAreRobotPosesMatchedByIndex)
     const auto scan = as<CObservation3DRangeScan>(objs[5]);
     const Pose cam = cameraPoseInWorld(as<CObservationRobotPose>(objs[4])->pose.mean, scan->sensorPose);
     EXPECT_LT((cam.linear().col(2) - Eigen::Vector3d::UnitY()).norm(), 1e-9);
+}
+
+TEST_F(ConvertRedwood, MappingTheRawlogBackSaysWhereADamagedFileStops)
+{
+    const std::string in = makeRedwoodFolder(folder("redwood"));
+    const std::string out = path("seq.rawlog");
+    ASSERT_EQ(runConvert({in, "-o", out}).exit_code, 0);
+    PanopticNDTMap whole;
+    const RawlogMapResult m = mapRawlog(out, whole);
+    EXPECT_EQ(m.objects, 6u);
+    EXPECT_EQ(m.scans_mapped, 3u);
+
+    // The same file cut in half: an error naming the file, the object and the byte.
+    const std::string bytes = slurp(out);
+    const std::string cut = path("cut.rawlog");
+    std::ofstream(cut, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size() / 2));
+    PanopticNDTMap part;
+    try
+    {
+        mapRawlog(cut, part);
+        FAIL() << "expected an error for the truncated rawlog";
+    }
+    catch (const std::runtime_error& e)
+    {
+        const std::string what = e.what();
+        EXPECT_NE(what.find(cut), std::string::npos) << what;
+        EXPECT_NE(what.find("truncated or corrupt at object #"), std::string::npos) << what;
+    }
 }

@@ -3,16 +3,51 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <pndt/app/observation_stream.h>
 
+#include <cstring>
 #include <filesystem>
 
 namespace pndt::app
 {
+/// The decompressed file, where a short or failed read inside an object throws
+/// (only a read of nothing at an object's start is the clean end of the file).
+/// MRPT's gz stream returns gzread's -1 (a cut or corrupt gzip) as a huge byte
+/// count, and CImage ignores a short read of a colour image's JPEG bytes and
+/// decodes the half-filled buffer, where libjpeg's default error handler calls
+/// exit() ("Bogus marker length"): thrown here, the cut shows as a truncated file.
+class ObservationStream::GuardedInput : public mrpt::io::CStream
+{
+   public:
+    explicit GuardedInput(mrpt::io::CFileGZInputStream& in) : in_(in) {}
+    void startObject() { object_start_ = position_; }
+
+    size_t Read(void* buffer, size_t count) override
+    {
+        const size_t got = in_.Read(buffer, count);
+        if (got > count) throw std::runtime_error("the compressed data ends early or is corrupt");
+        position_ += got;
+        if (got < count && !(got == 0 && position_ == object_start_))
+            throw std::runtime_error(fmt::format("the file ends {} bytes into the object", position_ - object_start_));
+        return got;
+    }
+    size_t Write(const void*, size_t) override { throw std::logic_error("ObservationStream is read-only"); }
+    uint64_t Seek(int64_t, CStream::TSeekOrigin) override { throw std::logic_error("ObservationStream cannot seek"); }
+    uint64_t getTotalBytesCount() const override { return in_.getTotalBytesCount(); }
+    uint64_t getPosition() const override { return position_; }
+
+   private:
+    mrpt::io::CFileGZInputStream& in_;
+    uint64_t position_ = 0, object_start_ = 0;
+};
+
 ObservationStream::ObservationStream(const std::string& path) : path_(path)
 {
     if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(fmt::format("{}: no such file", path));
     if (!file_.open(path)) throw std::runtime_error(fmt::format("{}: cannot open", path));
-    archive_ = std::make_unique<mrpt::serialization::CArchiveStreamBase<mrpt::io::CFileGZInputStream>>(file_);
+    input_ = std::make_unique<GuardedInput>(file_);
+    archive_ = std::make_unique<mrpt::serialization::CArchiveStreamBase<mrpt::io::CStream>>(*input_);
 }
+
+ObservationStream::~ObservationStream() = default;
 
 double ObservationStream::progress() const
 {
@@ -32,7 +67,8 @@ mrpt::obs::CObservation::Ptr ObservationStream::next()
         }
         if (ended_) return nullptr;
         mrpt::serialization::CSerializable::Ptr obj;
-        const uint64_t at = file_.getPosition();
+        const uint64_t at = input_->getPosition();
+        input_->startObject();
         try
         {
             *archive_ >> obj;
@@ -45,12 +81,20 @@ mrpt::obs::CObservation::Ptr ObservationStream::next()
         catch (const std::exception& e)
         {
             std::string cause = e.what();
-            // MRPT messages carry a backtrace: keep the first informative lines.
-            if (const auto p = cause.find("Call stack"); p != std::string::npos) cause.resize(p);
+            // MRPT nests the exceptions of the objects being parsed, each with its
+            // source location and backtrace: keep the innermost message.
+            constexpr const char* kInner = "Original exception:";
+            if (const auto p = cause.rfind(kInner); p != std::string::npos) cause.erase(0, p + std::strlen(kInner));
+            for (const char* tail : {"Location:", "Call stack", "==== MRPT"})
+                if (const auto p = cause.find(tail); p != std::string::npos) cause.resize(p);
+            if (const auto p = cause.find("Message:"); p != std::string::npos) cause.erase(0, p + 8);
+            const auto first = cause.find_first_not_of(" \n");
+            cause.erase(0, first == std::string::npos ? cause.size() : first);
             while (!cause.empty() && (cause.back() == '\n' || cause.back() == ' ')) cause.pop_back();
             ended_ = truncated_ = true;
-            stop_reason_ = fmt::format("{}: truncated or corrupt at object #{} (compressed byte {} of {}): {}", path_,
-                                       objects_ + 1, at, file_.getTotalBytesCount(), cause);
+            stop_reason_ = fmt::format("{}: truncated or corrupt at object #{} (it starts at decompressed "
+                                       "byte {}; the file has {} bytes): {}",
+                                       path_, objects_ + 1, at, file_.getTotalBytesCount(), cause);
             return nullptr;
         }
         ++objects_;

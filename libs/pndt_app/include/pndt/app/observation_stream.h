@@ -17,6 +17,7 @@ class ObservationStream
    public:
     /// Throws std::runtime_error naming the file if it is missing or unreadable.
     explicit ObservationStream(const std::string& path);
+    ~ObservationStream();
 
     /// The next observation, or nullptr at the end of the file. After nullptr,
     /// truncated() tells whether the file ended cleanly.
@@ -31,8 +32,10 @@ class ObservationStream
     const std::string& path() const { return path_; }
 
    private:
+    class GuardedInput;
     std::string path_;
     mrpt::io::CFileGZInputStream file_;
+    std::unique_ptr<GuardedInput> input_;  ///< file_, failing reads that end inside an object
     std::unique_ptr<mrpt::serialization::CArchive> archive_;
     std::deque<mrpt::obs::CObservation::Ptr> queued_;  ///< rest of a sensory frame
     size_t objects_ = 0;

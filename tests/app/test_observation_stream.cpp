@@ -1,0 +1,82 @@
+// ObservationStream on damaged rawlogs: wherever a file is cut, reading stops
+// with a message naming the file and the object, never with libjpeg's exit().
+#include <gtest/gtest.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/obs/CObservationRobotPose.h>
+#include <mrpt/serialization/CArchive.h>
+#include <pndt/app/observation_stream.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+namespace fs = std::filesystem;
+
+namespace
+{
+/// Two frames (robot pose + scan with a JPEG-compressed colour image).
+std::string writeColourRawlog(const fs::path& path)
+{
+    {
+        mrpt::io::CFileGZOutputStream out(path.string());
+        auto ar = mrpt::serialization::archiveFrom(out);
+        for (int k = 0; k < 2; ++k)
+        {
+            mrpt::obs::CObservationRobotPose pose;
+            pose.timestamp = mrpt::Clock::fromDouble(100.0 + k);
+            ar << pose;
+            mrpt::obs::CObservation3DRangeScan scan;
+            scan.timestamp = pose.timestamp;
+            scan.hasRangeImage = true;
+            scan.rangeImage_setSize(48, 64);
+            scan.cameraParams.ncols = scan.cameraParamsIntensity.ncols = 64;
+            scan.cameraParams.nrows = scan.cameraParamsIntensity.nrows = 48;
+            scan.rangeImage.fill(1000);
+            scan.hasIntensityImage = true;
+            scan.intensityImage.resize(64, 48, mrpt::img::CH_RGB);
+            for (int r = 0; r < 48; ++r)
+                for (int c = 0; c < 64; ++c) scan.intensityImage.setPixel(c, r, size_t((r * 5) << 16 | (c * 3) << 8 | k));
+            ar << scan;
+        }
+    }
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+}
+}  // namespace
+
+TEST(ObservationStream, ACutAnywhereStopsWithAMessageNamingTheFile)
+{
+    const fs::path dir = fs::temp_directory_path() / ("pndt_obs_stream_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string bytes = writeColourRawlog(dir / "whole.rawlog");
+    {
+        pndt::app::ObservationStream whole((dir / "whole.rawlog").string());
+        size_t n = 0;
+        while (whole.next()) ++n;
+        EXPECT_EQ(n, 4u);
+        EXPECT_FALSE(whole.truncated());
+    }
+    // Cut every 16 bytes: inside headers, depth data and the JPEG bytes of the colour images.
+    int cuts = 0, truncated = 0;
+    for (size_t length = 16; length < bytes.size(); length += 16, ++cuts)
+    {
+        const fs::path cut = dir / "cut.rawlog";
+        std::ofstream(cut, std::ios::binary | std::ios::trunc).write(bytes.data(), std::streamsize(length));
+        pndt::app::ObservationStream in(cut.string());
+        size_t n = 0;
+        while (in.next()) ++n;
+        EXPECT_LE(n, 4u);
+        if (in.truncated())
+        {
+            ++truncated;
+            EXPECT_NE(in.stopReason().find(cut.string()), std::string::npos) << in.stopReason();
+            EXPECT_NE(in.stopReason().find("truncated or corrupt at object #" + std::to_string(n + 1)),
+                      std::string::npos)
+                << in.stopReason();
+        }
+    }
+    std::printf("[measured] %d cuts of a %zu-byte rawlog, %d reported as truncated\n", cuts, bytes.size(), truncated);
+    EXPECT_GE(truncated, cuts * 9 / 10);  // a cut at the end of an object may end cleanly
+    fs::remove_all(dir);
+}
