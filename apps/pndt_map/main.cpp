@@ -5,6 +5,7 @@
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationImage.h>
+#include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/system/datetime.h>
 #include <pndt/app/layered_config.h>
 #include <pndt/app/map_outputs.h>
@@ -18,6 +19,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdlib>
+#include <deque>
 #include <filesystem>
 #include <fstream>
 
@@ -148,12 +150,15 @@ int main(int argc, char** argv)
                                         settings.pose_frame.empty() ? std::nullopt
                                                                     : std::optional(parsePoseFrame(settings.pose_frame)),
                                         settings.pose_max_gap);
-        else if (!folder)
-            track = PoseTrack::fromRawlog(input, settings.pose_label, settings.pose_max_gap);
+        else if (!folder)  // the rawlog's own robot poses, taken while it is replayed
+            track = PoseTrack::whileReading(input, settings.pose_label, settings.pose_max_gap);
         // else: the dataset's own per-frame poses
+        const bool poses_in_stream = track && !folder && settings.pose_source != "file";
 
         fmt::print("pndt-map: {} ({}), {}\n", input,
-                   track ? fmt::format("{} poses from {}", track->size(), track->source()) : "the dataset's poses",
+                   !track            ? std::string("the dataset's poses")
+                   : poses_in_stream ? std::string("the rawlog's robot poses")
+                                     : fmt::format("{} poses from {}", track->size(), track->source()),
                    prototype->asString());
         if (settings.short_term.period > 0)
             fmt::print("short-term maps every {} {}, warm-up {:.0f}%\n", settings.short_term.period,
@@ -184,6 +189,29 @@ int main(int argc, char** argv)
             done.clear();
         };
         const auto more = [&] { return !g_stop && (max_frames <= 0 || mapped < uint64_t(max_frames)); };
+        // A scan takes its pose once the track reaches its time: with the rawlog's own
+        // poses, scans after the last pose read so far wait (bounded) for the next one.
+        constexpr size_t kMaxWaitingScans = 64;
+        std::deque<mrpt::obs::CObservation3DRangeScan::Ptr> waiting;
+        const auto placeScan = [&](const mrpt::obs::CObservation3DRangeScan& scan) {
+            const double t = mrpt::Clock::toDouble(scan.timestamp);
+            const auto T = track->cameraAt(t, settings.camera_pose.value_or(scan.sensorPose));
+            if (!T)
+            {
+                ++no_pose;  // never mapped with a stale pose
+                return;
+            }
+            pairer.pushScan(scan, *T, done);
+        };
+        const auto placeWaiting = [&](bool all) {
+            while (!waiting.empty() &&
+                   (all || waiting.size() > kMaxWaitingScans ||
+                    (!track->empty() && mrpt::Clock::toDouble(waiting.front()->timestamp) <= track->endTime())))
+            {
+                placeScan(*waiting.front());
+                waiting.pop_front();
+            }
+        };
         for (size_t i = 0; source && i < source->size() && more(); ++i)
         {
             PairedFrame p;
@@ -218,20 +246,29 @@ int main(int argc, char** argv)
                     continue;
                 }
                 ++scans;
-                const double t = mrpt::Clock::toDouble(scan->timestamp);
-                const auto T = track->cameraAt(t, settings.camera_pose.value_or(scan->sensorPose));
-                if (!T)
+                if (poses_in_stream)
                 {
-                    ++no_pose;  // never mapped with a stale pose
-                    continue;
+                    waiting.push_back(scan);
+                    placeWaiting(false);
                 }
-                pairer.pushScan(*scan, *T, done);
+                else
+                    placeScan(*scan);
+            }
+            else if (auto pose = std::dynamic_pointer_cast<mrpt::obs::CObservationRobotPose>(obs))
+            {
+                if (poses_in_stream && track->addRobotPose(*pose)) placeWaiting(false);
             }
             else if (auto img = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(obs))
                 pairer.push(*img, mrpt::poses::CPose3D(), done);
             integrateDone();
             bar.update(in.progress(), mapped);
         }
+        if (stream) placeWaiting(true);
+        if (poses_in_stream && track->empty() && !stream->truncated())
+            throw std::runtime_error(fmt::format("{}: no CObservationRobotPose{} in the rawlog; give a pose file", input,
+                                                 settings.pose_label.empty()
+                                                     ? ""
+                                                     : " labelled '" + settings.pose_label + "'"));
         pairer.flush(done);
         integrateDone();
         bar.update(1.0, mapped);

@@ -2,12 +2,18 @@
 // bad input, signals, and MRPT's own rawlog-edit on the outputs.
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CObservationRobotPose.h>
+#include <mrpt/serialization/CArchive.h>
 #include <nlohmann/json.hpp>
+#include <pndt/app/observation_stream.h>
 #include <pndt/mrpt/map_files.h>
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <functional>
 #include <set>
 #include <tuple>
 #include <cmath>
@@ -185,6 +191,79 @@ TEST(PndtMapCli, PoseProblemsAreReportedOrCounted)
     EXPECT_NE(r.out.find("frames mapped      : 20 "), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("frames skipped     : 20 without a pose"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("label images       : 40 without a matching depth frame"), std::string::npos) << r.out;
+}
+
+namespace
+{
+/// The room rawlog rewritten by `edit` (the observations in file order).
+fs::path rewrittenRoom(const fs::path& path,
+                       const std::function<void(std::vector<mrpt::obs::CObservation::Ptr>&)>& edit)
+{
+    std::vector<mrpt::obs::CObservation::Ptr> obs;
+    pndt::app::ObservationStream in(roomRawlog().string());
+    while (auto o = in.next()) obs.push_back(o);
+    edit(obs);
+    mrpt::io::CFileGZOutputStream out(path.string());
+    auto ar = mrpt::serialization::archiveFrom(out);
+    for (const auto& o : obs) ar << *o;
+    return path;
+}
+bool isPose(const mrpt::obs::CObservation::Ptr& o)
+{
+    return std::dynamic_pointer_cast<mrpt::obs::CObservationRobotPose>(o) != nullptr;
+}
+std::string mapBytes(const fs::path& dir)
+{
+    const auto m = loadMapArchive((dir / "map_0000.pndt.gz").string());
+    const auto keys = m->core().voxels().packedKeys();
+    std::string b(reinterpret_cast<const char*>(keys.data()), keys.size() * sizeof(uint64_t));
+    const auto& v = m->core().voxels().voxels();
+    b.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(pndt::Voxel));
+    return b;
+}
+}  // namespace
+
+TEST(PndtMapCli, RawlogPosesAreTakenInOnePassWhereverTheyStand)
+{
+    const fs::path out = tempDir("stream_poses");
+    RunResult r = run(mapExe() + roomRawlog().string() + " -o " + (out / "ref").string());
+    ASSERT_EQ(r.code, 0) << r.out;
+    // Every robot pose moved behind its frame's scan and label images: the scans
+    // wait for it and get the same poses, so the map is the same.
+    const fs::path late = rewrittenRoom(out / "late.rawlog", [](auto& obs) {
+        for (size_t i = 0; i + 1 < obs.size();)
+        {
+            if (!isPose(obs[i])) { ++i; continue; }
+            size_t j = i + 1;  // move it behind the non-pose observations that follow
+            while (j < obs.size() && !isPose(obs[j])) ++j;
+            std::rotate(obs.begin() + long(i), obs.begin() + long(i) + 1, obs.begin() + long(j));
+            i = j;
+        }
+    });
+    r = run(mapExe() + late.string() + " -o " + (out / "late").string());
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("frames mapped      : 40 "), std::string::npos) << r.out;
+    EXPECT_EQ(mapBytes(out / "late"), mapBytes(out / "ref"));
+
+    // Two poses swapped: an error naming the file, out of order.
+    const fs::path swapped = rewrittenRoom(out / "swapped.rawlog", [](auto& obs) {
+        std::vector<size_t> at;
+        for (size_t i = 0; i < obs.size(); ++i)
+            if (isPose(obs[i])) at.push_back(i);
+        std::swap(obs[at[10]], obs[at[11]]);
+    });
+    r = run(mapExe() + swapped.string() + " -o " + (out / "swapped").string());
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.out.find("swapped.rawlog"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("out of order"), std::string::npos) << r.out;
+
+    // No robot pose at all: an error that says to give a pose file.
+    const fs::path none = rewrittenRoom(out / "none.rawlog", [](auto& obs) {
+        obs.erase(std::remove_if(obs.begin(), obs.end(), isPose), obs.end());
+    });
+    r = run(mapExe() + none.string() + " -o " + (out / "none").string());
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.out.find("no CObservationRobotPose"), std::string::npos) << r.out;
 }
 
 TEST(PndtMapCli, UnknownConfigKeysAndSectionsAreErrorsNamingThem)

@@ -47,27 +47,41 @@ PoseTrack::PoseTrack(std::vector<io::StampedPose> poses, PoseFrame frame, double
 {
 }
 
+PoseTrack::PoseTrack(PoseFrame frame, double max_gap, std::string source, std::string label)
+    : frame_(frame), max_gap_(max_gap), source_(std::move(source))
+{
+    label_ = std::move(label);
+}
+
+PoseTrack PoseTrack::whileReading(const std::string& rawlog, const std::string& label, double max_gap)
+{
+    return PoseTrack(PoseFrame::Robot, max_gap, rawlog, label);
+}
+
+bool PoseTrack::addRobotPose(const mrpt::obs::CObservationRobotPose& p)
+{
+    if (!label_.empty() && p.sensorLabel != label_) return false;
+    io::StampedPose sp;
+    sp.t = mrpt::Clock::toDouble(p.timestamp);
+    sp.T_world_sensor = toEigen(p.pose.mean);
+    if (!interp_.empty() && sp.t <= interp_.endTime())
+        throw std::runtime_error(fmt::format(
+            "{}: robot pose '{}' #{} at t={:.6f} is not after the previous one (t={:.6f}): poses out of order",
+            source_, p.sensorLabel, interp_.size() + 1, sp.t, interp_.endTime()));
+    interp_.append(sp);
+    return true;
+}
+
 PoseTrack PoseTrack::fromRawlog(const std::string& rawlog, const std::string& label, double max_gap)
 {
+    PoseTrack track = whileReading(rawlog, label, max_gap);
     ObservationStream in(rawlog);
-    std::vector<io::StampedPose> poses;
     while (auto o = in.next())
-    {
-        auto p = std::dynamic_pointer_cast<mrpt::obs::CObservationRobotPose>(o);
-        if (!p || (!label.empty() && p->sensorLabel != label)) continue;
-        io::StampedPose sp;
-        sp.t = mrpt::Clock::toDouble(p->timestamp);
-        sp.T_world_sensor = toEigen(p->pose.mean);
-        if (!poses.empty() && sp.t <= poses.back().t)
-            throw std::runtime_error(fmt::format(
-                "{}: robot pose '{}' #{} at t={:.6f} is not after the previous one (t={:.6f}): poses out of order",
-                rawlog, p->sensorLabel, poses.size() + 1, sp.t, poses.back().t));
-        poses.push_back(sp);
-    }
-    if (poses.empty())
+        if (auto p = std::dynamic_pointer_cast<mrpt::obs::CObservationRobotPose>(o)) track.addRobotPose(*p);
+    if (track.empty())
         throw std::runtime_error(fmt::format("{}: no CObservationRobotPose{} in the rawlog; give a pose file", rawlog,
                                              label.empty() ? "" : " labelled '" + label + "'"));
-    return PoseTrack(std::move(poses), PoseFrame::Robot, max_gap, rawlog);
+    return track;
 }
 
 PoseTrack PoseTrack::fromFile(const std::string& path, io::PoseFormat format, std::optional<PoseFrame> frame,

@@ -8,23 +8,26 @@
 
 namespace pndt::io
 {
-PoseInterpolator::PoseInterpolator(std::vector<StampedPose> poses) : poses_(std::move(poses))
+PoseInterpolator::PoseInterpolator(std::vector<StampedPose> poses)
 {
-    quats_.reserve(poses_.size());
-    for (size_t i = 0; i < poses_.size(); ++i)
-    {
-        const double t = poses_[i].t;
-        if (!std::isfinite(t))
-            throw InputError(fmt::format("PoseInterpolator: pose {} has a non-finite stamp", i));
-        if (i > 0 && !(t > poses_[i - 1].t))
-            throw InputError(fmt::format(
-                "PoseInterpolator: pose {} (t={:.9f}) is {} pose {} (t={:.9f}); stamps must be "
-                "strictly increasing",
-                i, t, t == poses_[i - 1].t ? "a duplicate stamp of" : "out of order, before", i - 1,
-                poses_[i - 1].t));
-        quats_.emplace_back(poses_[i].T_world_sensor.rotation());
-        quats_.back().normalize();
-    }
+    poses_.reserve(poses.size());
+    quats_.reserve(poses.size());
+    for (const StampedPose& p : poses) append(p);
+}
+
+void PoseInterpolator::append(const StampedPose& pose)
+{
+    const size_t i = poses_.size();
+    const double t = pose.t;
+    if (!std::isfinite(t)) throw InputError(fmt::format("PoseInterpolator: pose {} has a non-finite stamp", i));
+    if (i > 0 && !(t > poses_[i - 1].t))
+        throw InputError(fmt::format(
+            "PoseInterpolator: pose {} (t={:.9f}) is {} pose {} (t={:.9f}); stamps must be "
+            "strictly increasing",
+            i, t, t == poses_[i - 1].t ? "a duplicate stamp of" : "out of order, before", i - 1, poses_[i - 1].t));
+    poses_.push_back(pose);
+    quats_.emplace_back(pose.T_world_sensor.rotation());
+    quats_.back().normalize();
 }
 
 double PoseInterpolator::startTime() const

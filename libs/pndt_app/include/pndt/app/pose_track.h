@@ -5,6 +5,8 @@
 #include <pndt/io/pose_interpolator.h>
 #include <pndt/io/poses.h>
 
+#include <mrpt/obs/CObservationRobotPose.h>
+
 #include <optional>
 #include <string>
 
@@ -30,6 +32,12 @@ class PoseTrack
     /// Every CObservationRobotPose of a rawlog (those labelled `label`, or all
     /// when empty), robot frame. Throws naming the file if poses go back in time.
     static PoseTrack fromRawlog(const std::string& rawlog, const std::string& label, double max_gap);
+    /// An empty track of a rawlog's robot poses, filled while the rawlog is
+    /// replayed (addRobotPose): one pass over the file instead of two.
+    static PoseTrack whileReading(const std::string& rawlog, const std::string& label, double max_gap);
+    /// Appends `p` if its label is the track's; throws naming the file if it
+    /// goes back in time. Returns whether it was taken.
+    bool addRobotPose(const mrpt::obs::CObservationRobotPose& p);
     /// A pose file in any format pndt_io reads.
     static PoseTrack fromFile(const std::string& path, io::PoseFormat format, std::optional<PoseFrame> frame,
                               double max_gap);
@@ -38,11 +46,17 @@ class PoseTrack
     /// gap. `extrinsic` = robot -> camera (MRPT sensor axes), used for robot poses.
     std::optional<Pose> cameraAt(double t, const mrpt::poses::CPose3D& extrinsic) const;
     size_t size() const { return interp_.size(); }
+    bool empty() const { return interp_.empty(); }
+    /// Time of the last pose (throws if empty): frames up to it have their final pose.
+    double endTime() const { return interp_.endTime(); }
     PoseFrame frame() const { return frame_; }
     const std::string& source() const { return source_; }
 
    private:
+    PoseTrack(PoseFrame frame, double max_gap, std::string source, std::string label);
+
     io::PoseInterpolator interp_;
+    std::string label_;  ///< robot poses taken by addRobotPose (empty: all)
     PoseFrame frame_;
     double max_gap_;
     std::string source_;

@@ -17,6 +17,8 @@ public:
     /// Throws InputError naming the index if a stamp is non-finite or not strictly greater than
     /// its predecessor (out of order or duplicated).
     explicit PoseInterpolator(std::vector<StampedPose> poses);
+    /// Adds a pose after the last one (poses read while mapping); the same checks.
+    void append(const StampedPose& pose);
 
     /// Pose at time t:
     ///  * exact hit on a stored stamp → that stored pose (max_gap does not matter);
