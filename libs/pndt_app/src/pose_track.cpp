@@ -1,7 +1,6 @@
 #include <fmt/format.h>
 #include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/system/datetime.h>
-#include <pndt/app/observation_stream.h>
 #include <pndt/app/pose_track.h>
 #include <pndt/mrpt/observation_frame.h>
 
@@ -70,18 +69,6 @@ bool PoseTrack::addRobotPose(const mrpt::obs::CObservationRobotPose& p)
             source_, p.sensorLabel, interp_.size() + 1, sp.t, interp_.endTime()));
     interp_.append(sp);
     return true;
-}
-
-PoseTrack PoseTrack::fromRawlog(const std::string& rawlog, const std::string& label, double max_gap)
-{
-    PoseTrack track = whileReading(rawlog, label, max_gap);
-    ObservationStream in(rawlog);
-    while (auto o = in.next())
-        if (auto p = std::dynamic_pointer_cast<mrpt::obs::CObservationRobotPose>(o)) track.addRobotPose(*p);
-    if (track.empty())
-        throw std::runtime_error(fmt::format("{}: no CObservationRobotPose{} in the rawlog; give a pose file", rawlog,
-                                             label.empty() ? "" : " labelled '" + label + "'"));
-    return track;
 }
 
 PoseTrack PoseTrack::fromFile(const std::string& path, io::PoseFormat format, std::optional<PoseFrame> frame,

@@ -29,11 +29,9 @@ class PoseTrack
    public:
     PoseTrack(std::vector<io::StampedPose> poses, PoseFrame frame, double max_gap, std::string source);
 
-    /// Every CObservationRobotPose of a rawlog (those labelled `label`, or all
-    /// when empty), robot frame. Throws naming the file if poses go back in time.
-    static PoseTrack fromRawlog(const std::string& rawlog, const std::string& label, double max_gap);
-    /// An empty track of a rawlog's robot poses, filled while the rawlog is
-    /// replayed (addRobotPose): one pass over the file instead of two.
+    /// An empty track of a rawlog's robot poses (those labelled `label`, or all
+    /// when empty; robot frame), filled while the rawlog is replayed
+    /// (addRobotPose): one pass over the file.
     static PoseTrack whileReading(const std::string& rawlog, const std::string& label, double max_gap);
     /// Appends `p` if its label is the track's; throws naming the file if it
     /// goes back in time. Returns whether it was taken.
