@@ -315,8 +315,9 @@ int main(int argc, char** argv)
         fmt::print("label images       : {} without a matching depth frame\n", labels_orphaned);
         fmt::print("pixels skipped     : {} invalid depth, {} beyond max range\n", st.skipped_invalid_depth,
                    st.skipped_over_range);
-        fmt::print("maps written       : {} in {} (index.json); {:.2f} s of mapping time finalising (files are written beside mapping)\n", maps.index().size(),
-                   out_dir, maps.secondsWriting());
+        fmt::print("maps written       : {} in {} (index.json); {:.2f} s of mapping time finalising (files are "
+                   "written beside mapping)\n",
+                   maps.index().size(), out_dir, maps.secondsWriting());
         fmt::print("final map          : {}\n", final_map->asString());
         fmt::print("memory             : map {:.1f} MB, peak RSS {:.1f} MB\n", core.memoryBytes() / 1e6,
                    peakRssBytes() / 1e6);
