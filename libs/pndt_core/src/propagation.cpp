@@ -79,16 +79,20 @@ void PanopticMap::ensurePropagated() const
         if (!pr.instance_of_voxel.empty()) classifyInstances();
     }
 
+    // Every voxel's instance, looked up once for the passes below.
+    std::vector<uint32_t> instance(n);
+    for (size_t i = 0; i < n; ++i) instance[i] = propagatedInstance(uint32_t(i));
+
     // Pass 1c: finalisation beyond the paper (map_options.h): fragments join
     // their object, then unlabelled surface takes its labelled neighbours' label.
-    if (options_.fragment_absorb_ratio > 0) absorbFragments();
-    if (options_.label_fill_distance > 0) fillUnlabelled();
+    if (options_.fragment_absorb_ratio > 0) absorbFragments(instance);
+    if (options_.label_fill_distance > 0) fillUnlabelled(instance);
 
     // Pass 2: the instance summaries (centroid, extent, count).
     tsl::robin_map<uint32_t, uint32_t> summary_of;
     for (size_t i = 0; i < n; ++i)
     {
-        const uint32_t z = propagatedInstance(uint32_t(i));
+        const uint32_t z = instance[i];
         if (z == 0) continue;
         const Eigen::Vector3d p = pointOf(uint32_t(i));
         const auto [it, inserted] = summary_of.try_emplace(z, uint32_t(pr.instances.size()));
@@ -139,27 +143,27 @@ constexpr int kForward[13][3] = {{0, 0, 1},  {0, 1, -1}, {0, 1, 0},  {0, 1, 1}, 
                                  {1, 1, -1}, {1, 1, 0},  {1, 1, 1}};
 }  // namespace
 
-void PanopticMap::absorbFragments() const
+void PanopticMap::absorbFragments(std::vector<uint32_t>& instance) const
 {
     Propagation& pr = *prop_;
     const size_t n = store_.size();
     tsl::robin_map<uint32_t, uint32_t> size_of;
     for (size_t i = 0; i < n; ++i)
-        if (const uint32_t z = propagatedInstance(uint32_t(i))) ++size_of[z];
+        if (const uint32_t z = instance[i]) ++size_of[z];
     if (size_of.size() < 2) return;
 
     // Touching voxel pairs of two instances of one class.
     tsl::robin_map<uint64_t, uint32_t> contacts;
     for (size_t i = 0; i < n; ++i)
     {
-        const uint32_t a = propagatedInstance(uint32_t(i));
+        const uint32_t a = instance[i];
         if (a == 0) continue;
         const VoxelKey k = store_.key(uint32_t(i));
         for (const auto& d : kForward)
         {
             const uint32_t j = store_.find({k.x + d[0], k.y + d[1], k.z + d[2]});
             if (j == kNoRecord) continue;
-            const uint32_t b = propagatedInstance(j);
+            const uint32_t b = instance[j];
             if (b == 0 || b == a || pr.instance_class.at(a) != pr.instance_class.at(b)) continue;
             ++contacts[(uint64_t(std::min(a, b)) << 32) | std::max(a, b)];
         }
@@ -192,9 +196,13 @@ void PanopticMap::absorbFragments() const
         for (auto it = pick.find(root); it != pick.end(); it = pick.find(root)) root = it->second.into;
         pr.absorbed_into.emplace(small, root);
     }
+    if (pr.absorbed_into.empty()) return;
+    for (uint32_t& z : instance)
+        if (z != 0)
+            if (const auto it = pr.absorbed_into.find(z); it != pr.absorbed_into.end()) z = it->second;
 }
 
-void PanopticMap::fillUnlabelled() const
+void PanopticMap::fillUnlabelled(std::vector<uint32_t>& instance) const
 {
     if (labels_.empty()) return;  // a geometry-only map has nothing to pass on
     Propagation& pr = *prop_;
@@ -214,7 +222,7 @@ void PanopticMap::fillUnlabelled() const
         const LabelRecord* rec = labelsOf(v);
         if (rec && !rec->semantic.empty())
         {
-            const uint32_t z = propagatedInstance(j);
+            const uint32_t z = instance[j];
             out = z ? PanopticLabel{pr.instance_class.at(z), z} : PanopticLabel{rec->semantic.top(), 0};
             return true;
         }
@@ -264,7 +272,11 @@ void PanopticMap::fillUnlabelled() const
         }
         todo.resize(kept);
         if (decided.empty()) break;
-        for (const auto& [u, l] : decided) pr.filled.emplace(u, l);
+        for (const auto& [u, l] : decided)
+        {
+            pr.filled.emplace(u, l);
+            instance[u] = l.instance;
+        }
     }
 }
 

@@ -209,8 +209,9 @@ class PanopticMap
     uint32_t propagatedInstance(uint32_t voxel) const;
     uint32_t topInstance(const Voxel& v) const;
     void classifyInstances() const;
-    void absorbFragments() const;
-    void fillUnlabelled() const;
+    /// `instance`: every voxel's propagated instance so far, updated in place.
+    void absorbFragments(std::vector<uint32_t>& instance) const;
+    void fillUnlabelled(std::vector<uint32_t>& instance) const;
 
     MapOptions options_;
     VoxelGrid grid_;
