@@ -12,6 +12,7 @@
 #include <pndt/app/observation_stream.h>
 #include <pndt/app/pose_track.h>
 #include <pndt/app/progress_bar.h>
+#include <pndt/app/read_ahead_stream.h>
 #include <pndt/app/short_term_maps.h>
 #include <pndt/mrpt/observation_pairer.h>
 
@@ -168,7 +169,7 @@ int main(int argc, char** argv)
         ShortTermMaps maps(factory, settings.short_term);
         ObservationPairer pairer;
         pairer.options = prototype->insertionOptions;
-        std::optional<ObservationStream> stream;
+        std::optional<ReadAheadStream> stream;  // decoding overlaps with mapping
         std::optional<DatasetSource> source;
         if (folder)
             source.emplace(input, dataset);

@@ -1,11 +1,13 @@
 // ObservationStream on damaged rawlogs: wherever a file is cut, reading stops
 // with a message naming the file and the object, never with libjpeg's exit().
+// ReadAheadStream: the same observations and stop reason, read on a thread.
 #include <gtest/gtest.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/serialization/CArchive.h>
 #include <pndt/app/observation_stream.h>
+#include <pndt/app/read_ahead_stream.h>
 
 #include <filesystem>
 #include <fstream>
@@ -78,5 +80,42 @@ TEST(ObservationStream, ACutAnywhereStopsWithAMessageNamingTheFile)
     }
     std::printf("[measured] %d cuts of a %zu-byte rawlog, %d reported as truncated\n", cuts, bytes.size(), truncated);
     EXPECT_GE(truncated, cuts * 9 / 10);  // a cut at the end of an object may end cleanly
+    fs::remove_all(dir);
+}
+
+TEST(ReadAheadStream, SameObservationsInOrderAndTheSameStopReason)
+{
+    const fs::path dir = fs::temp_directory_path() / ("pndt_read_ahead_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string bytes = writeColourRawlog(dir / "whole.rawlog");
+    const auto stamps = [](auto& in) {
+        std::vector<std::pair<std::string, double>> out;
+        while (auto o = in.next()) out.emplace_back(o->GetRuntimeClass()->className, mrpt::Clock::toDouble(o->timestamp));
+        return out;
+    };
+    pndt::app::ObservationStream plain((dir / "whole.rawlog").string());
+    pndt::app::ReadAheadStream ahead((dir / "whole.rawlog").string(), 1);
+    const auto a = stamps(plain), b = stamps(ahead);
+    ASSERT_EQ(a.size(), 4u);
+    EXPECT_EQ(a, b);
+    EXPECT_FALSE(ahead.truncated());
+    EXPECT_DOUBLE_EQ(ahead.progress(), 1.0);
+
+    // A truncated file: the same observations before the cut, the same reason.
+    const fs::path cut = dir / "cut.rawlog";
+    std::ofstream(cut, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size() * 3 / 4));
+    pndt::app::ObservationStream plain_cut(cut.string());
+    pndt::app::ReadAheadStream ahead_cut(cut.string(), 2);
+    EXPECT_EQ(stamps(plain_cut), stamps(ahead_cut));
+    ASSERT_TRUE(plain_cut.truncated());
+    EXPECT_TRUE(ahead_cut.truncated());
+    EXPECT_EQ(ahead_cut.stopReason(), plain_cut.stopReason());
+
+    // Dropped after one observation, with the reader waiting on a full queue: it stops.
+    {
+        pndt::app::ReadAheadStream early((dir / "whole.rawlog").string(), 1);
+        EXPECT_TRUE(early.next());
+    }
+    EXPECT_THROW(pndt::app::ReadAheadStream((dir / "missing.rawlog").string()), std::runtime_error);
     fs::remove_all(dir);
 }

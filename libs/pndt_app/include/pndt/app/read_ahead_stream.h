@@ -1,0 +1,51 @@
+// A rawlog's observations decoded on a background thread, a bounded number
+// ahead of the consumer: decompressing and deserialising (most of a replay's
+// time on real rawlogs) overlap with mapping on another core.
+#pragma once
+
+#include <pndt/app/observation_stream.h>
+
+#include <condition_variable>
+#include <deque>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+namespace pndt::app
+{
+class ReadAheadStream
+{
+   public:
+    /// Opens `path` (throws like ObservationStream) and starts reading ahead,
+    /// at most `depth` observations.
+    explicit ReadAheadStream(const std::string& path, size_t depth = 16);
+    /// Stops the reader (after the observation it is decoding) and joins it.
+    ~ReadAheadStream();
+    ReadAheadStream(const ReadAheadStream&) = delete;
+    ReadAheadStream& operator=(const ReadAheadStream&) = delete;
+
+    /// The next observation in file order, or nullptr at the end; rethrows an
+    /// error the reader met. After nullptr, truncated() and stopReason() tell
+    /// why reading ended, as for ObservationStream.
+    mrpt::obs::CObservation::Ptr next();
+    bool truncated() const;
+    const std::string& stopReason() const;
+    /// Fraction of the file the reader has consumed.
+    double progress() const;
+    const std::string& path() const { return in_.path(); }
+
+   private:
+    void readLoop();
+
+    ObservationStream in_;  ///< the reader thread's alone once it runs
+    const size_t depth_;
+    mutable std::mutex mutex_;
+    std::condition_variable changed_;
+    std::deque<mrpt::obs::CObservation::Ptr> queue_;
+    bool ended_ = false, stop_ = false;
+    std::exception_ptr error_;
+    double progress_ = 0;
+    std::thread reader_;
+};
+
+}  // namespace pndt::app
