@@ -47,9 +47,8 @@ PoseTrack::PoseTrack(std::vector<io::StampedPose> poses, PoseFrame frame, double
 }
 
 PoseTrack::PoseTrack(PoseFrame frame, double max_gap, std::string source, std::string label)
-    : frame_(frame), max_gap_(max_gap), source_(std::move(source))
+    : label_(std::move(label)), frame_(frame), max_gap_(max_gap), source_(std::move(source))
 {
-    label_ = std::move(label);
 }
 
 PoseTrack PoseTrack::whileReading(const std::string& rawlog, const std::string& label, double max_gap)

@@ -158,13 +158,14 @@ void PanopticMap::absorbFragments(std::vector<uint32_t>& instance) const
     {
         const uint32_t a = instance[i];
         if (a == 0) continue;
+        const uint16_t class_a = pr.instance_class.at(a);
         const VoxelKey k = store_.key(uint32_t(i));
         for (const auto& d : kForward)
         {
             const uint32_t j = store_.find({k.x + d[0], k.y + d[1], k.z + d[2]});
             if (j == kNoRecord) continue;
             const uint32_t b = instance[j];
-            if (b == 0 || b == a || pr.instance_class.at(a) != pr.instance_class.at(b)) continue;
+            if (b == 0 || b == a || pr.instance_class.at(b) != class_a) continue;
             ++contacts[(uint64_t(std::min(a, b)) << 32) | std::max(a, b)];
         }
     }
@@ -222,8 +223,7 @@ void PanopticMap::fillUnlabelled(std::vector<uint32_t>& instance) const
         const LabelRecord* rec = labelsOf(v);
         if (rec && !rec->semantic.empty())
         {
-            const uint32_t z = instance[j];
-            out = z ? PanopticLabel{pr.instance_class.at(z), z} : PanopticLabel{rec->semantic.top(), 0};
+            out = labelledLabel(*rec, instance[j]);
             return true;
         }
         const auto it = pr.filled.find(j);
@@ -303,10 +303,14 @@ PanopticLabel PanopticMap::panopticLabel(uint32_t voxel) const
         const auto it = prop_->filled.find(voxel);
         return it == prop_->filled.end() ? PanopticLabel{} : it->second;
     }
+    return labelledLabel(*rec, propagatedInstance(voxel));
+}
+
+PanopticLabel PanopticMap::labelledLabel(const LabelRecord& rec, uint32_t instance) const
+{
     // pthing voxels take <the instance's class, the instance>; all others <argmax h^L, 0>.
-    const uint32_t z = propagatedInstance(voxel);
-    if (z == 0) return {rec->semantic.top(), 0};
-    return {prop_->instance_class.at(z), z};
+    if (instance == 0) return {rec.semantic.top(), 0};
+    return {prop_->instance_class.at(instance), instance};
 }
 
 uint16_t PanopticMap::semanticLabel(uint32_t voxel) const

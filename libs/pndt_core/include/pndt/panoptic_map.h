@@ -211,6 +211,8 @@ class PanopticMap
     void classifyInstances() const;
     /// `instance`: every voxel's propagated instance so far, updated in place.
     void absorbFragments(std::vector<uint32_t>& instance) const;
+    /// The propagated label of a voxel with semantic evidence `rec` and instance `instance`.
+    PanopticLabel labelledLabel(const LabelRecord& rec, uint32_t instance) const;
     void fillUnlabelled(std::vector<uint32_t>& instance) const;
 
     MapOptions options_;
