@@ -78,10 +78,8 @@ uint64_t stateHash(const PanopticMap& m)
         f.bytes(r.semantic.ids, sizeof(r.semantic.ids));
         f.bytes(r.semantic.weights, sizeof(r.semantic.weights));
         f.value(r.semantic.sum);
-        f.value(r.semantic.size);
         f.value(r.stuff_sum);
         f.value(r.n_l);
-        f.value(r.n_z);
         f.value(r.instances);
     }
     for (const InstanceRecord& r : m.instanceRecords())
@@ -89,7 +87,7 @@ uint64_t stateHash(const PanopticMap& m)
         f.bytes(r.hist.ids, sizeof(r.hist.ids));
         f.bytes(r.hist.weights, sizeof(r.hist.weights));
         f.value(r.hist.sum);
-        f.value(r.hist.size);
+        f.value(r.n_z);
     }
     f.value(m.nextInstanceId());
     return f.h;

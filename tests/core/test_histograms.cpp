@@ -11,7 +11,7 @@ TEST(SparseHistogram, KeepsEntriesSortedByWeight)
     h.add(7, 1.f);
     h.add(9, 3.f);
     h.add(7, 2.5f);  // 7 now weighs 3.5 and moves ahead of 9
-    ASSERT_EQ(h.size, 2);
+    ASSERT_EQ(h.size(), 2);
     EXPECT_EQ(h.ids[0], 7u);
     EXPECT_FLOAT_EQ(h.weights[0], 3.5f);
     EXPECT_EQ(h.ids[1], 9u);
@@ -23,19 +23,19 @@ TEST(SparseHistogram, SeventeenthInstanceReplacesTheSmallestEntry)
 {
     InstanceHist h;
     for (uint32_t id = 1; id <= 16; ++id) h.add(id, float(id));  // id 1 weighs least
-    ASSERT_EQ(h.size, 16);
+    ASSERT_EQ(h.size(), 16);
     EXPECT_FLOAT_EQ(h.sum, 136.f);  // 1+..+16
     float evicted_w = -1;
     const uint32_t evicted = h.add(100, 2.5f, &evicted_w);
     EXPECT_EQ(evicted, 1u);
     EXPECT_FLOAT_EQ(evicted_w, 1.f);
-    EXPECT_EQ(h.size, 16);
+    EXPECT_EQ(h.size(), 16);
     EXPECT_EQ(h.indexOf(1), -1);
     // 2.5 sorts between ids 3 (w=3) and 2 (w=2): second to last.
     EXPECT_EQ(h.ids[14], 100u);
     EXPECT_EQ(h.ids[15], 2u);
     EXPECT_FLOAT_EQ(h.sum, 136.f - 1.f + 2.5f);
-    for (int i = 1; i < h.size; ++i) EXPECT_GE(h.weights[i - 1], h.weights[i]);
+    for (int i = 1; i < h.size(); ++i) EXPECT_GE(h.weights[i - 1], h.weights[i]);
 }
 
 TEST(SparseHistogram, TiesKeepTheOlderEntryFirst)
@@ -88,10 +88,12 @@ TEST(InstanceRules, PThingFlipsAtThetaO)
     LabelRecord r;
     r.semantic.add(5, 10.f);
     r.n_l = 100;
-    r.n_z = 25;
-    EXPECT_TRUE(isPanopticThing(r, 0.9, 0.25));
-    r.n_z = 24;
-    EXPECT_FALSE(isPanopticThing(r, 0.9, 0.25));
+    InstanceRecord z;
+    z.hist.add(1, 8.f);
+    z.n_z = 25;
+    EXPECT_TRUE(isPanopticThing(r, z, 0.9, 0.25));
+    z.n_z = 24;
+    EXPECT_FALSE(isPanopticThing(r, z, 0.9, 0.25));
 }
 
 TEST(InstanceRules, MatchThresholds)

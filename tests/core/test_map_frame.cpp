@@ -164,7 +164,7 @@ TEST(PanopticMapFrame, RenameInstancesMergesAndMovesTheCounter)
     map.restore({VoxelKey{0, 0, 0}.packed()}, voxels, surfaces, labels, inst, 3);
     map.renameInstances([](uint32_t id) { return id == 1 ? 40u : 40u; });  // both -> 40
     const auto& h = map.instanceRecords()[0].hist;
-    ASSERT_EQ(h.size, 1);
+    ASSERT_EQ(h.size(), 1);
     EXPECT_EQ(h.ids[0], 40u);
     EXPECT_FLOAT_EQ(h.weights[0], 5.f);
     EXPECT_EQ(map.nextInstanceId(), 41u);

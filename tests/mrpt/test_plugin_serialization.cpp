@@ -49,20 +49,20 @@ void expectSameState(const PanopticMap& a, const PanopticMap& b)
     for (size_t i = 0; i < a.labelRecords().size(); ++i)
     {
         const LabelRecord &x = a.labelRecords()[i], &y = b.labelRecords()[i];
-        ASSERT_EQ(x.semantic.size, y.semantic.size);
+        ASSERT_EQ(x.semantic.size(), y.semantic.size());
         EXPECT_EQ(0, std::memcmp(x.semantic.ids, y.semantic.ids, sizeof(x.semantic.ids)));
         EXPECT_EQ(0, std::memcmp(x.semantic.weights, y.semantic.weights, sizeof(x.semantic.weights)));
         EXPECT_EQ(0, std::memcmp(&x.semantic.sum, &y.semantic.sum, sizeof(float)));
         EXPECT_EQ(0, std::memcmp(&x.stuff_sum, &y.stuff_sum, sizeof(float)));
         EXPECT_EQ(x.n_l, y.n_l);
-        EXPECT_EQ(x.n_z, y.n_z);
         EXPECT_EQ(x.instances, y.instances);
     }
     ASSERT_EQ(a.instanceRecords().size(), b.instanceRecords().size());
     for (size_t i = 0; i < a.instanceRecords().size(); ++i)
     {
+        EXPECT_EQ(a.instanceRecords()[i].n_z, b.instanceRecords()[i].n_z);
         const auto &x = a.instanceRecords()[i].hist, &y = b.instanceRecords()[i].hist;
-        ASSERT_EQ(x.size, y.size);
+        ASSERT_EQ(x.size(), y.size());
         EXPECT_EQ(0, std::memcmp(x.ids, y.ids, sizeof(x.ids)));
         EXPECT_EQ(0, std::memcmp(x.weights, y.weights, sizeof(x.weights)));
         EXPECT_EQ(0, std::memcmp(&x.sum, &y.sum, sizeof(float)));
@@ -153,9 +153,17 @@ struct VersionReader : PanopticNDTMap
     using PanopticNDTMap::serializeFrom;
 };
 
+/// How version0Payload damages the label records it writes.
+enum class LabelDamage
+{
+    None,
+    EmptyEntryInside,        ///< the first record claims one semantic entry more than it holds
+    UpdatesWithoutInstances  ///< a record without instance histogram counts instance updates
+};
+
 /// The map's state in the version-0 layout (every voxel held its shape and its
 /// label record index itself), written field by field as version 0 did.
-std::vector<uint8_t> version0Payload(const PanopticNDTMap& m)
+std::vector<uint8_t> version0Payload(const PanopticNDTMap& m, LabelDamage damage = LabelDamage::None)
 {
     const PanopticMap& map = m.core();
     const MapOptions& o = map.options();
@@ -200,17 +208,21 @@ std::vector<uint8_t> version0Payload(const PanopticNDTMap& m)
     const auto& recs = map.labelRecords();
     const size_t nl = recs.size();
     a << uint64_t(nl);
-    for (const LabelRecord& r : recs) a << r.semantic.size;
+    for (const LabelRecord& r : recs)
+        a << uint8_t(r.semantic.size() + (damage == LabelDamage::EmptyEntryInside && &r == &recs[0]));
     for (const LabelRecord& r : recs) a.WriteBuffer(r.semantic.ids, sizeof(r.semantic.ids));
     for (const LabelRecord& r : recs) a.WriteBufferFixEndianness(r.semantic.weights, 8);
     for (const LabelRecord& r : recs) a << r.semantic.sum;
     for (const LabelRecord& r : recs) a << r.stuff_sum;
     for (const LabelRecord& r : recs) a << r.n_l;
-    for (const LabelRecord& r : recs) a << r.n_z;
-    for (const LabelRecord& r : recs) a << r.instances;
     const auto& irecs = map.instanceRecords();
+    for (const LabelRecord& r : recs)  // n^Z is stored per label record
+        a << (r.instances != kNoRecord                                ? irecs[r.instances].n_z
+              : damage == LabelDamage::UpdatesWithoutInstances ? 3u
+                                                               : 0u);
+    for (const LabelRecord& r : recs) a << r.instances;
     a << uint64_t(irecs.size());
-    for (const auto& r : irecs) a << r.hist.size;
+    for (const auto& r : irecs) a << uint8_t(r.hist.size());
     for (const auto& r : irecs) a.WriteBufferFixEndianness(r.hist.ids, 16);
     for (const auto& r : irecs) a.WriteBufferFixEndianness(r.hist.weights, 16);
     for (const auto& r : irecs) a << r.hist.sum;
@@ -250,6 +262,33 @@ TEST(PluginSerialization, ReadsVersion0Archives)
     EXPECT_EQ(a.instanceRecords().size(), b.instanceRecords().size());
     EXPECT_EQ(a.nextInstanceId(), b.nextInstanceId());
     EXPECT_EQ(back.asString(), m->asString());
+}
+
+TEST(PluginSerialization, DamagedHistogramsAreRejectedNamingTheRecord)
+{
+    const auto m = labelledMap();
+    ASSERT_LT(m->core().labelRecords()[0].semantic.size(), LabelRecord::kSemanticCapacity);
+    ASSERT_LT(m->core().instanceRecords().size(), m->core().labelRecords().size());  // some have no instances
+    const auto read = [](const std::vector<uint8_t>& payload) -> std::string {
+        VersionReader back;
+        mrpt::io::CMemoryStream mem;
+        mem.assignMemoryNotOwn(payload.data(), payload.size());
+        auto in = mrpt::serialization::archiveFrom(mem);
+        try
+        {
+            back.serializeFrom(in, 0);
+        }
+        catch (const std::exception& e)
+        {
+            return e.what();
+        }
+        return "no error";
+    };
+    EXPECT_NE(read(version0Payload(*m, LabelDamage::EmptyEntryInside)).find("label record 0 has an empty entry"),
+              std::string::npos);
+    const std::string e = read(version0Payload(*m, LabelDamage::UpdatesWithoutInstances));
+    EXPECT_NE(e.find("counts 3 instance updates but has no instance histogram"), std::string::npos) << e;
+    EXPECT_NE(e.find("truncated or corrupt"), std::string::npos) << e;
 }
 
 TEST(PluginSerialization, TruncatedArchivesFailWithAMessage)

@@ -45,12 +45,12 @@ PanopticMap build(const std::vector<VoxelSpec>& specs, uint32_t next_id, MapOpti
             if (!classes.isThing(c)) r.stuff_sum += w;
         }
         r.n_l = specs[i].n_l;
-        r.n_z = specs[i].n_z;
         if (!specs[i].instances.empty())
         {
             r.instances = uint32_t(inst.size());
             inst.emplace_back();
             for (const auto& [z, w] : specs[i].instances) inst.back().hist.add(z, w);
+            inst.back().n_z = specs[i].n_z;
         }
         labels.push_back(r);
     }

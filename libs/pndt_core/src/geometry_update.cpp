@@ -63,11 +63,6 @@ void PanopticMap::projectPixels(const PanopticFrame& f, const Pose& T, FrameStat
     // More bands than threads, so that a thread held up elsewhere (a shared
     // machine) does not hold up the frame: idle threads take the next band.
     const int B = std::max(1, std::min(s.threads > 1 ? 4 * s.threads : 1, H));
-    if (++s.frame == 0)  // wrapped: forget every stamp
-    {
-        std::fill(s.voxel_frame.begin(), s.voxel_frame.end(), 0u);
-        s.frame = 1;
-    }
     s.pixel_slot.resize(size_t(W) * H);
     setupProjection(f.K, T, grid_.voxelSize(), options_.max_range, s.projection);
     {
@@ -177,8 +172,10 @@ void PanopticMap::projectPixels(const PanopticFrame& f, const Pose& T, FrameStat
         const VoxelKey k = VoxelKey::unpack(h.key);
         h.voxel = store_.findOrCreateInBrick(store_.brickFor(VoxelStore::brickKeyOf(k)), VoxelStore::slotOf(k));
     }
-    if (s.voxel_frame.size() < store_.size()) s.voxel_frame.resize(store_.size() + store_.size() / 4, 0u);
-    for (uint32_t i = 0; i < g.count; ++i) s.voxel_frame[g.hits[i].voxel] = s.frame;
+    // A bit per voxel, not a frame stamp: 0.125 instead of 4 bytes per voxel.
+    const size_t words = (store_.size() + 63) / 64;
+    if (s.hit_bits.size() < words) s.hit_bits.resize(words + words / 4, 0);
+    for (uint32_t i = 0; i < g.count; ++i) s.hit_bits[g.hits[i].voxel >> 6] |= uint64_t(1) << (g.hits[i].voxel & 63);
 }
 
 void PanopticMap::projectBand(const PanopticFrame& f, const Pose& T, int b, int B)
@@ -301,7 +298,6 @@ void PanopticMap::updateShapes(FrameStats& st)
         if (v.surface == kNoRecord)
         {
             v.surface = uint32_t(surfaces_.size());
-            reserveGently(surfaces_);
             surfaces_.emplace_back();
         }
     }
@@ -362,6 +358,8 @@ void PanopticMap::updateOccupancy(const Pose& T, FrameStats& st)
     else
         castRays(origin, 0, rays, s.ray_workers[0]);
     const int used = threads > 1 && tasks > 1 ? threads : 1;
+    const HitSlot* hits = s.hits();
+    for (uint32_t i = 0, n = s.hitCount(); i < n; ++i) s.hit_bits[hits[i].voxel >> 6] = 0;  // whole words: all were 0 before
     st.rays = rays;
     for (int t = 0; t < used; ++t) st.ray_steps += s.ray_workers[size_t(t)].steps;
 
@@ -404,8 +402,7 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
     const double q = vs / kSampleScale;
     const bool ndt = options_.use_ndt;
     const FastMissRule rule(MissModel{options_.miss_min_likelihood, options_.miss_likelihood_scale});
-    const uint32_t frame = s.frame;
-    const uint32_t* voxel_frame = s.voxel_frame.data();
+    const uint64_t* hit_bits = s.hit_bits.data();
     const VoxelKey k0 = grid_.keyOf(origin);
     constexpr int BB = VoxelStore::kBrickBits;
     constexpr int32_t BM = VoxelStore::kBrickEdge - 1;
@@ -436,7 +433,7 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
         if (!blk.slots) return RayBlock::kConstant;
         const uint32_t vi = blk.slots[slot];
         if (vi == kNoRecord) return RayBlock::kConstant;
-        if (voxel_frame[vi] == frame) return RayBlock::kSkip;  // a hit this frame wins
+        if (hit_bits[vi >> 6] >> (vi & 63) & 1) return RayBlock::kSkip;  // a hit this frame wins
         if (!ndt) return RayBlock::kConstant;
         const Voxel& v = store_[vi];
         if (!hasGaussian(v)) return RayBlock::kConstant;

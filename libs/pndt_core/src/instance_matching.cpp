@@ -121,7 +121,7 @@ void PanopticMap::matchInstances(const PanopticFrame& f, const Pose& T, FrameSta
         const LabelRecord* rec = labelsOf(v);
         if (!rec || rec->instances == kNoRecord || !isThing(*rec, options_.theta_st)) continue;
         const auto& hist = instance_records_[rec->instances].hist;
-        for (int j = 0; j < hist.size; ++j)
+        for (int j = 0, n = hist.size(); j < n; ++j)
             if (isInTopZ(hist, hist.ids[j], options_.theta_b)) s.candidates.emplace_back(hist.ids[j], vi);
     }
     std::sort(s.candidates.begin(), s.candidates.end());

@@ -63,13 +63,11 @@ void PanopticMap::updateHistograms(const PanopticFrame& f, FrameStats& st)
         if (nl != kNoRecord)
         {
             sr.labels = uint32_t(labels_.size());
-            reserveGently(labels_);
             labels_.push_back(w.labels[nl]);
         }
         if (ni != kNoRecord)
         {
             labels_[sr.labels].instances = uint32_t(instance_records_.size());
-            reserveGently(instance_records_);
             instance_records_.push_back(w.instances[ni]);
         }
     }
@@ -142,7 +140,7 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
         if (run_z == 0) return;
         inst->hist.weights[run_zi] = run_zw;
         inst->hist.sum = run_zsum;
-        rec->n_z += run_nz;
+        inst->n_z += run_nz;
         bubbleUp(inst->hist, run_zi);
         run_z = 0;
     };
@@ -205,7 +203,7 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
                 ++instance_updates;
                 {
                     flushInstance();
-                    LabelRecord& r = labelRecord();
+                    labelRecord();  // the label record links the instance record
                     if (!inst)
                     {
                         s.new_instance[size_t(cur)] = uint32_t(w.instances.size());
@@ -224,7 +222,7 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
                     else
                     {
                         inst->hist.add(z, sp);
-                        ++r.n_z;
+                        ++inst->n_z;
                         run_zi = inst->hist.indexOf(z);
                         run_zw = inst->hist.weights[run_zi];
                         run_zsum = inst->hist.sum;

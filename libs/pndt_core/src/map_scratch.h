@@ -188,8 +188,7 @@ struct PanopticMap::Scratch
     std::vector<int32_t> pixel_slot;      ///< per pixel: frame hit slot, -1 not mapped
     std::vector<ProjectionBand> bands;    ///< bands[0] holds the merged frame result
     int band_count = 1;                   ///< bands used by this frame
-    std::vector<uint32_t> voxel_frame;    ///< per voxel: last frame it was hit in
-    uint32_t frame = 0;
+    std::vector<uint64_t> hit_bits;       ///< per voxel one bit: hit in this frame (until its rays are cast)
 
     // free space
     std::vector<RayWorker> ray_workers;

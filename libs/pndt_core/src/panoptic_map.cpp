@@ -202,7 +202,7 @@ void PanopticMap::resetVoxelContents(Voxel& v)
     const uint32_t inst = r.instances;
     r = LabelRecord{};
     r.instances = inst;  // keep the pooled record for reuse
-    if (inst != kNoRecord) instance_records_[inst].hist.clear();
+    if (inst != kNoRecord) instance_records_[inst] = InstanceRecord{};
 }
 
 size_t PanopticMap::occupiedCount() const
@@ -216,9 +216,9 @@ PanopticMap::MemoryUse PanopticMap::memoryUse() const
 {
     MemoryUse m;
     m.voxels = store_.memoryBytes();
-    m.surfaces = surfaces_.capacity() * sizeof(SurfaceRecord);
-    m.labels = labels_.capacity() * sizeof(LabelRecord);
-    m.instances = instance_records_.capacity() * sizeof(InstanceRecord);
+    m.surfaces = surfaces_.bytesUsed();
+    m.labels = labels_.bytesUsed();
+    m.instances = instance_records_.bytesUsed();
     m.propagation = prop_->instance_class.bucket_count() * (sizeof(std::pair<uint32_t, uint16_t>) + 4) +
                     prop_->instances.capacity() * sizeof(MapInstance) +
                     (prop_->instance_of_voxel.bucket_count() + prop_->absorbed_into.bucket_count()) *
@@ -265,9 +265,10 @@ void PanopticMap::restore(const std::vector<uint64_t>& keys, std::vector<Voxel> 
             throw std::invalid_argument(fmt::format("label record {} refers to instance record {} of {}", i,
                                                     r.instances, instance_records.size()));
         if (r.instances != kNoRecord) claim(r.instances, 4, "instance record", "label record", i);
-        if (r.semantic.size > LabelRecord::kSemanticCapacity)
-            throw std::invalid_argument(fmt::format("label record {} has {} semantic entries", i, r.semantic.size));
-        for (int j = 0; j < r.semantic.size; ++j)
+        for (int j = r.semantic.size(); j < LabelRecord::kSemanticCapacity; ++j)
+            if (r.semantic.ids[j] != 0)
+                throw std::invalid_argument(fmt::format("label record {} has a class after a free entry", i));
+        for (int j = 0, n = r.semantic.size(); j < n; ++j)
             if (!options_.classes.contains(r.semantic.ids[j]))
                 throw std::invalid_argument(
                     fmt::format("label record {} holds class {} outside the class set", i, r.semantic.ids[j]));
@@ -275,17 +276,18 @@ void PanopticMap::restore(const std::vector<uint64_t>& keys, std::vector<Voxel> 
     for (size_t i = 0; i < instance_records.size(); ++i)
     {
         const auto& h = instance_records[i].hist;
-        if (h.size > h.kCapacity)
-            throw std::invalid_argument(fmt::format("instance record {} has {} entries", i, h.size));
-        for (int j = 0; j < h.size; ++j)
-            if (h.ids[j] == 0 || h.ids[j] >= next_instance_id)
+        for (int j = h.size(); j < h.kCapacity; ++j)
+            if (h.ids[j] != 0)
+                throw std::invalid_argument(fmt::format("instance record {} has an id after a free entry", i));
+        for (int j = 0, n = h.size(); j < n; ++j)
+            if (h.ids[j] >= next_instance_id)
                 throw std::invalid_argument(fmt::format("instance record {} holds id {} (next id is {})", i,
                                                         h.ids[j], next_instance_id));
     }
     store_.assign(keys, std::move(voxels));
-    surfaces_ = std::move(surfaces);
-    labels_ = std::move(labels);
-    instance_records_ = std::move(instance_records);
+    surfaces_.assign(surfaces.begin(), surfaces.end());
+    labels_.assign(labels.begin(), labels.end());
+    instance_records_.assign(instance_records.begin(), instance_records.end());
     next_instance_id_ = next_instance_id;
     scratch_->pair_evidence.clear();
     invalidate();
@@ -298,7 +300,7 @@ void PanopticMap::renameInstances(const std::function<uint32_t(uint32_t)>& renam
         auto& h = rec.hist;
         // Two ids may be renamed to one: merge their weights, keep the order.
         SparseHistogram<uint32_t, 16> renamed;
-        for (int i = 0; i < h.size; ++i)
+        for (int i = 0, n = h.size(); i < n; ++i)
         {
             const uint32_t id = rename(h.ids[i]);
             if (id == 0) throw std::invalid_argument("renameInstances: instance id 0 is reserved");

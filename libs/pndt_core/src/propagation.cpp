@@ -65,7 +65,7 @@ void PanopticMap::ensurePropagated() const
             const uint16_t own = ownThingClass(rec, options_.classes);
             if (own == 0 || own == pr.instance_class.at(z)) continue;
             const auto& hist = instance_records_[rec.instances].hist;
-            for (int j = 1; j < hist.size; ++j)  // by weight, strongest first
+            for (int j = 1, n = hist.size(); j < n; ++j)  // by weight, strongest first
             {
                 const auto it = pr.instance_class.find(hist.ids[j]);
                 if (it != pr.instance_class.end() && it->second == own &&
@@ -284,8 +284,9 @@ uint32_t PanopticMap::topInstance(const Voxel& v) const
 {
     if (!isOccupied(v)) return 0;
     const LabelRecord* rec = labelsOf(v);
-    if (!rec || rec->instances == kNoRecord || !isPanopticThing(*rec, options_.theta_st, options_.theta_o)) return 0;
-    return instance_records_[rec->instances].hist.top();
+    if (!rec || rec->instances == kNoRecord) return 0;
+    const InstanceRecord& z = instance_records_[rec->instances];
+    return isPanopticThing(*rec, z, options_.theta_st, options_.theta_o) ? z.hist.top() : 0;
 }
 
 void PanopticMap::finalize() const { ensurePropagated(); }

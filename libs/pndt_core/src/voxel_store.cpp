@@ -15,9 +15,7 @@ uint32_t VoxelStore::brickFor(uint64_t brick_key)
     const uint32_t b = uint32_t(brick_origin_.size());
     brick_index_.emplace(brick_key, b);
     const VoxelKey bk = VoxelKey::unpack(brick_key);
-    reserveGently(brick_origin_);
     brick_origin_.push_back({bk.x * kBrickEdge, bk.y * kBrickEdge, bk.z * kBrickEdge});
-    reserveGently(slots_, kBrickSlots);
     slots_.resize(slots_.size() + kBrickSlots, kNoRecord);
     return b;
 }
@@ -26,8 +24,6 @@ uint32_t VoxelStore::create(uint32_t brick, uint32_t slot)
 {
     if (voxels_.size() >= size_t(kNoRecord) - 1) throw std::length_error("voxel store: 2^32 - 2 voxels");
     const uint32_t i = uint32_t(voxels_.size());
-    reserveGently(voxels_);
-    reserveGently(where_);
     voxels_.emplace_back();
     where_.push_back((brick << (3 * kBrickBits)) | slot);
     return i;
@@ -66,15 +62,14 @@ void VoxelStore::assign(const std::vector<uint64_t>& keys, std::vector<Voxel> vo
         s = uint32_t(i);
         where_.push_back((b << (3 * kBrickBits)) | slotOf(k));
     }
-    voxels_ = std::move(voxels);
+    voxels_.assign(voxels.begin(), voxels.end());
 }
 
 size_t VoxelStore::memoryBytes() const
 {
     // A robin_map bucket holds the pair, its distance to the ideal bucket and a flag.
     constexpr size_t bucket = sizeof(std::pair<uint64_t, uint32_t>) + 8;
-    return voxels_.capacity() * sizeof(Voxel) + where_.capacity() * sizeof(uint32_t) +
-           slots_.capacity() * sizeof(uint32_t) + brick_origin_.capacity() * sizeof(VoxelKey) +
+    return voxels_.bytesUsed() + where_.bytesUsed() + slots_.bytesUsed() + brick_origin_.bytesUsed() +
            brick_index_.bucket_count() * bucket;
 }
 

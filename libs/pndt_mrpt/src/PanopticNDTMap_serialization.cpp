@@ -82,6 +82,17 @@ void readArray(CArchive& a, std::vector<T>& v, size_t n)
     v.resize(n);
     if (n && a.ReadBufferFixEndianness(v.data(), n) != n * sizeof(T)) throw std::runtime_error("unexpected end of data");
 }
+/// Entries in use of a stored histogram of `capacity` whose count is `size`:
+/// ids before it must be set (0 marks a free entry), those after it are ignored.
+template <typename Id>
+int checkedEntries(uint8_t size, int capacity, const Id* ids, const char* what, size_t index)
+{
+    if (size > capacity) throw std::runtime_error(fmt::format("{} {} has {} entries", what, index, size));
+    for (int j = 0; j < size; ++j)
+        if (ids[j] == 0) throw std::runtime_error(fmt::format("{} {} has an empty entry {} of {}", what, index, j, size));
+    return size;
+}
+
 uint64_t readCount(CArchive& a, const char* what, uint64_t max)
 {
     uint64_t n = 0;
@@ -138,6 +149,7 @@ void PanopticNDTMap::serializeTo(CArchive& out) const
     writeArray(out, s_labels);
 
     const auto& recs = map_.labelRecords();
+    const auto& inst_recs = map_.instanceRecords();
     constexpr int SC = LabelRecord::kSemanticCapacity;
     const size_t nl = recs.size();
     std::vector<uint8_t> sem_size(nl), sem_ids(SC * nl);
@@ -146,13 +158,13 @@ void PanopticNDTMap::serializeTo(CArchive& out) const
     for (size_t i = 0; i < nl; ++i)
     {
         const LabelRecord& r = recs[i];
-        sem_size[i] = r.semantic.size;
+        sem_size[i] = uint8_t(r.semantic.size());
         std::memcpy(&sem_ids[SC * i], r.semantic.ids, SC);
         std::memcpy(&sem_w[SC * i], r.semantic.weights, SC * sizeof(float));
         sem_sum[i] = r.semantic.sum;
         stuff[i] = r.stuff_sum;
         n_l[i] = r.n_l;
-        n_z[i] = r.n_z;
+        n_z[i] = r.instances != kNoRecord && r.instances < inst_recs.size() ? inst_recs[r.instances].n_z : 0;
         inst[i] = r.instances;
     }
     out << uint64_t(nl);
@@ -174,7 +186,7 @@ void PanopticNDTMap::serializeTo(CArchive& out) const
     for (size_t i = 0; i < ni; ++i)
     {
         const auto& h = irecs[i].hist;
-        i_size[i] = h.size;
+        i_size[i] = uint8_t(h.size());
         std::memcpy(&i_ids[IC * i], h.ids, IC * sizeof(uint32_t));
         std::memcpy(&i_w[IC * i], h.weights, IC * sizeof(float));
         i_sum[i] = h.sum;
@@ -310,13 +322,12 @@ void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
                 for (size_t i = 0; i < nl; ++i)
                 {
                     LabelRecord& r = recs[i];
-                    r.semantic.size = sem_size[i];
-                    std::memcpy(r.semantic.ids, &sem_ids[SC * i], SC);
-                    std::memcpy(r.semantic.weights, &sem_w[SC * i], SC * sizeof(float));
+                    const int used = checkedEntries(sem_size[i], SC, &sem_ids[SC * i], "label record", i);
+                    std::memcpy(r.semantic.ids, &sem_ids[SC * i], size_t(used));
+                    std::memcpy(r.semantic.weights, &sem_w[SC * i], size_t(used) * sizeof(float));
                     r.semantic.sum = sem_sum[i];
                     r.stuff_sum = stuff[i];
                     r.n_l = n_l[i];
-                    r.n_z = n_z[i];
                     r.instances = inst[i];
                 }
 
@@ -334,10 +345,20 @@ void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
                 for (size_t i = 0; i < ni; ++i)
                 {
                     auto& h = irecs[i].hist;
-                    h.size = i_size[i];
-                    std::memcpy(h.ids, &i_ids[IC * i], IC * sizeof(uint32_t));
-                    std::memcpy(h.weights, &i_w[IC * i], IC * sizeof(float));
+                    const int used = checkedEntries(i_size[i], IC, &i_ids[IC * i], "instance record", i);
+                    std::memcpy(h.ids, &i_ids[IC * i], size_t(used) * sizeof(uint32_t));
+                    std::memcpy(h.weights, &i_w[IC * i], size_t(used) * sizeof(float));
                     h.sum = i_sum[i];
+                }
+                // n^Z is stored with the label record (format v0-v3) and kept
+                // with the instance histogram, the only place it can grow.
+                for (size_t i = 0; i < nl; ++i)
+                {
+                    if (n_z[i] == 0) continue;
+                    if (inst[i] >= ni)
+                        throw std::runtime_error(fmt::format(
+                            "label record {} counts {} instance updates but has no instance histogram", i, n_z[i]));
+                    irecs[inst[i]].n_z = n_z[i];
                 }
 
                 std::vector<PanopticMap::PairEvidence> evidence;

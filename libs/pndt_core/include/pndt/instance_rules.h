@@ -22,16 +22,16 @@ inline bool isInTopZ(const SparseHistogram<uint32_t, 16>& h, uint32_t z, double 
     if (i < 0 || h.sum <= 0) return false;
     const float wz = h.weights[i];
     double cum = 0;
-    for (int j = 0; j < h.size; ++j)
+    for (int j = 0, n = h.size(); j < n; ++j)
         if (h.weights[j] <= wz) cum += h.weights[j];
     return cum >= (1.0 - theta_b) * double(h.sum);
 }
 
 /// pthing(v): a thing voxel that saw instances often enough relative to its
 /// semantic observations (n^Z / n^L >= theta_o).
-inline bool isPanopticThing(const LabelRecord& r, double theta_st, double theta_o)
+inline bool isPanopticThing(const LabelRecord& r, const InstanceRecord& z, double theta_st, double theta_o)
 {
-    return isThing(r, theta_st) && r.n_l > 0 && double(r.n_z) >= theta_o * double(r.n_l);
+    return isThing(r, theta_st) && r.n_l > 0 && double(z.n_z) >= theta_o * double(r.n_l);
 }
 
 /// Adds a voxel's thing-class mass of h^L to per-class sums (an instance's class
@@ -39,7 +39,7 @@ inline bool isPanopticThing(const LabelRecord& r, double theta_st, double theta_
 template <typename T>
 inline void addThingMass(const LabelRecord& r, const ClassSet& classes, T* per_class)
 {
-    for (int j = 0; j < r.semantic.size; ++j)
+    for (int j = 0, n = r.semantic.size(); j < n; ++j)
         if (classes.isThing(r.semantic.ids[j])) per_class[r.semantic.ids[j]] += r.semantic.weights[j];
 }
 
@@ -48,7 +48,7 @@ inline uint16_t ownThingClass(const LabelRecord& r, const ClassSet& classes)
 {
     float best = 0;
     uint16_t c = 0;
-    for (int j = 0; j < r.semantic.size; ++j)
+    for (int j = 0, n = r.semantic.size(); j < n; ++j)
         if (classes.isThing(r.semantic.ids[j]) && r.semantic.weights[j] > best)
         {
             best = r.semantic.weights[j];

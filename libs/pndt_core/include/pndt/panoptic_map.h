@@ -7,6 +7,7 @@
 
 #include <pndt/frame.h>
 #include <pndt/map_options.h>
+#include <pndt/record_pool.h>
 #include <pndt/voxel_store.h>
 
 #include <algorithm>
@@ -135,9 +136,9 @@ class PanopticMap
 
     // ---- raw state, for serialisation and visualisation
     const VoxelStore& voxels() const { return store_; }
-    const std::vector<SurfaceRecord>& surfaceRecords() const { return surfaces_; }
-    const std::vector<LabelRecord>& labelRecords() const { return labels_; }
-    const std::vector<InstanceRecord>& instanceRecords() const { return instance_records_; }
+    const RecordPool<SurfaceRecord>& surfaceRecords() const { return surfaces_; }
+    const RecordPool<LabelRecord>& labelRecords() const { return labels_; }
+    const RecordPool<InstanceRecord>& instanceRecords() const { return instance_records_; }
     uint32_t nextInstanceId() const { return next_instance_id_; }
     const LabelRecord* labelsOf(const Voxel& v) const
     {
@@ -218,9 +219,9 @@ class PanopticMap
     MapOptions options_;
     VoxelGrid grid_;
     VoxelStore store_;
-    std::vector<SurfaceRecord> surfaces_;
-    std::vector<LabelRecord> labels_;
-    std::vector<InstanceRecord> instance_records_;
+    RecordPool<SurfaceRecord> surfaces_;
+    RecordPool<LabelRecord> labels_;
+    RecordPool<InstanceRecord> instance_records_;
     uint32_t next_instance_id_ = 1;
     double min_var_ = 0;
 

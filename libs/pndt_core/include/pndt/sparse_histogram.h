@@ -1,5 +1,7 @@
 // Fixed-capacity histogram kept sorted by weight (largest first); when full, a
-// new id replaces the smallest entry (design §2).
+// new id replaces the smallest entry (design §2). Id 0 (void, no instance) is
+// never stored: it marks the free entries, which follow the used ones, so the
+// histogram keeps no count of its own (a byte that cost 4 with padding).
 #pragma once
 
 #include <cstdint>
@@ -14,20 +16,26 @@ struct SparseHistogram
 
     Id ids[Capacity]{};
     float weights[Capacity]{};
-    float sum = 0;      ///< sum of the stored weights
-    uint8_t size = 0;
+    float sum = 0;  ///< sum of the stored weights
 
-    /// Adds `w` to `id`. When full, the smallest entry is evicted: its id is
-    /// returned (0 otherwise) and its weight stored in `evicted_weight`.
+    /// Entries in use.
+    int size() const
+    {
+        int n = 0;
+        while (n < Capacity && ids[n] != 0) ++n;
+        return n;
+    }
+    /// Adds `w` to `id` (not 0). When full, the smallest entry is evicted: its
+    /// id is returned (0 otherwise) and its weight stored in `evicted_weight`.
     Id add(Id id, float w, float* evicted_weight = nullptr)
     {
         int i = indexOf(id);
         Id evicted = 0;
         if (i >= 0)
             weights[i] += w;
-        else if (size < Capacity)
+        else if (const int n = size(); n < Capacity)
         {
-            i = size++;
+            i = n;
             ids[i] = id;
             weights[i] = w;
         }
@@ -50,9 +58,10 @@ struct SparseHistogram
         }
         return evicted;
     }
+    /// Index of `id` (not 0), or -1.
     int indexOf(Id id) const
     {
-        for (int i = 0; i < size; ++i)
+        for (int i = 0; i < Capacity && ids[i] != 0; ++i)
             if (ids[i] == id) return i;
         return -1;
     }
@@ -61,8 +70,8 @@ struct SparseHistogram
         const int i = indexOf(id);
         return i < 0 ? 0.f : weights[i];
     }
-    bool empty() const { return size == 0; }
-    Id top() const { return size ? ids[0] : Id(0); }
+    bool empty() const { return ids[0] == 0; }
+    Id top() const { return ids[0]; }
     void clear() { *this = SparseHistogram{}; }
 };
 

@@ -32,22 +32,27 @@ struct SurfaceRecord
 };
 
 /// Semantic histogram h^L (sparse: a surface voxel sees few classes), its stuff
-/// part and the update counters n^L, n^Z.
+/// part and the update counter n^L.
 struct LabelRecord
 {
     static constexpr int kSemanticCapacity = 8;
     SparseHistogram<uint8_t, kSemanticCapacity> semantic;
     float stuff_sum = 0;
     uint32_t n_l = 0;
-    uint32_t n_z = 0;
     uint32_t instances = kNoRecord;  ///< index into the InstanceRecord pool
 };
 
-/// Sparse instance histogram h^Z: at most 16 (id, weight) entries.
+/// Sparse instance histogram h^Z: at most 16 (id, weight) entries, and its
+/// update counter n^Z (here, not in the LabelRecord: only voxels with an
+/// instance histogram ever count instance updates).
 struct InstanceRecord
 {
     SparseHistogram<uint32_t, 16> hist;
+    uint32_t n_z = 0;
 };
+
+// Most of a map's memory (doc/benchmarks.md): keep an eye on padding.
+static_assert(sizeof(SurfaceRecord) == 44 && sizeof(LabelRecord) == 56 && sizeof(InstanceRecord) == 136);
 
 /// Propagated panoptic label <semantic, instance> (instance 0 = none).
 struct PanopticLabel

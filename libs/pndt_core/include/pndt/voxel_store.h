@@ -10,6 +10,7 @@
 // its slot table directly (brickOf / slotsOf).
 #pragma once
 
+#include <pndt/record_pool.h>
 #include <pndt/voxel.h>
 #include <pndt/voxel_key.h>
 #include <tsl/robin_map.h>
@@ -19,16 +20,6 @@
 
 namespace pndt
 {
-/// Makes room for `extra` more elements, growing by a quarter instead of
-/// std::vector's doubling: the map's pools are most of its memory, and a pool
-/// just past a doubling would hold half of it unused.
-template <typename V>
-void reserveGently(V& v, size_t extra = 1)
-{
-    const size_t need = v.size() + extra;
-    if (need > v.capacity()) v.reserve(std::max(need, v.capacity() + v.capacity() / 4 + 64));
-}
-
 class VoxelStore
 {
    public:
@@ -94,7 +85,7 @@ class VoxelStore
     uint64_t packedKey(uint32_t i) const { return key(i).packed(); }
     /// Packed keys of all voxels, by index (computed: the store keeps 4-byte locators).
     std::vector<uint64_t> packedKeys() const;
-    const std::vector<Voxel>& voxels() const { return voxels_; }
+    const RecordPool<Voxel>& voxels() const { return voxels_; }
 
     void clear();
     /// Rebuilds the store from parallel arrays (deserialisation); bricks are
@@ -103,17 +94,17 @@ class VoxelStore
     void assign(const std::vector<uint64_t>& keys, std::vector<Voxel> voxels);
 
     /// Bytes held by the voxels, their locators, the brick slot tables and the
-    /// brick hash (by capacity).
+    /// brick hash (the pools' pages in use, the hash by capacity).
     size_t memoryBytes() const;
 
    private:
     uint32_t create(uint32_t brick, uint32_t slot);
 
     tsl::robin_map<uint64_t, uint32_t, PackedKeyHash> brick_index_;  ///< packed brick key -> brick
-    std::vector<VoxelKey> brick_origin_;  ///< per brick: key of its voxel (0,0,0)
-    std::vector<uint32_t> slots_;         ///< per brick 512 voxel indices
-    std::vector<Voxel> voxels_;
-    std::vector<uint32_t> where_;         ///< per voxel: brick << 9 | slot
+    RecordPool<VoxelKey> brick_origin_;  ///< per brick: key of its voxel (0,0,0)
+    RecordPool<uint32_t> slots_;         ///< per brick 512 voxel indices
+    RecordPool<Voxel> voxels_;
+    RecordPool<uint32_t> where_;         ///< per voxel: brick << 9 | slot
 };
 
 }  // namespace pndt
