@@ -77,8 +77,6 @@ uint64_t stateHash(const PanopticMap& m)
     {
         f.bytes(r.semantic.ids, sizeof(r.semantic.ids));
         f.bytes(r.semantic.weights, sizeof(r.semantic.weights));
-        f.value(r.semantic.sum);
-        f.value(r.stuff_sum);
         f.value(r.n_l);
         f.value(r.instances);
     }
@@ -86,7 +84,6 @@ uint64_t stateHash(const PanopticMap& m)
     {
         f.bytes(r.hist.ids, sizeof(r.hist.ids));
         f.bytes(r.hist.weights, sizeof(r.hist.weights));
-        f.value(r.hist.sum);
         f.value(r.n_z);
     }
     f.value(m.nextInstanceId());

@@ -15,7 +15,7 @@ TEST(SparseHistogram, KeepsEntriesSortedByWeight)
     EXPECT_EQ(h.ids[0], 7u);
     EXPECT_FLOAT_EQ(h.weights[0], 3.5f);
     EXPECT_EQ(h.ids[1], 9u);
-    EXPECT_FLOAT_EQ(h.sum, 6.5f);
+    EXPECT_FLOAT_EQ(h.sum(), 6.5f);
     EXPECT_EQ(h.top(), 7u);
 }
 
@@ -24,7 +24,7 @@ TEST(SparseHistogram, SeventeenthInstanceReplacesTheSmallestEntry)
     InstanceHist h;
     for (uint32_t id = 1; id <= 16; ++id) h.add(id, float(id));  // id 1 weighs least
     ASSERT_EQ(h.size(), 16);
-    EXPECT_FLOAT_EQ(h.sum, 136.f);  // 1+..+16
+    EXPECT_FLOAT_EQ(h.sum(), 136.f);  // 1+..+16
     float evicted_w = -1;
     const uint32_t evicted = h.add(100, 2.5f, &evicted_w);
     EXPECT_EQ(evicted, 1u);
@@ -34,7 +34,7 @@ TEST(SparseHistogram, SeventeenthInstanceReplacesTheSmallestEntry)
     // 2.5 sorts between ids 3 (w=3) and 2 (w=2): second to last.
     EXPECT_EQ(h.ids[14], 100u);
     EXPECT_EQ(h.ids[15], 2u);
-    EXPECT_FLOAT_EQ(h.sum, 136.f - 1.f + 2.5f);
+    EXPECT_FLOAT_EQ(h.sum(), 136.f - 1.f + 2.5f);
     for (int i = 1; i < h.size(); ++i) EXPECT_GE(h.weights[i - 1], h.weights[i]);
 }
 
@@ -73,14 +73,15 @@ TEST(InstanceRules, IsInTopZBoundaryIsInclusive)
 
 TEST(InstanceRules, IsThingUsesTheStuffShare)
 {
+    const ClassSet classes = ClassSet::nyuv2_40();
     LabelRecord r;
     r.semantic.add(1, 9.f);  // wall
-    r.stuff_sum = 9.f;
     r.semantic.add(5, 1.f);  // chair
-    EXPECT_FALSE(isThing(r, 0.9));  // stuff share 0.9 is not < 0.9
-    r.semantic.add(5, 0.25f);       // share 9/10.25 = 0.878
-    EXPECT_TRUE(isThing(r, 0.9));
-    EXPECT_FALSE(isThing(LabelRecord{}, 0.9));  // no semantic mass
+    EXPECT_FLOAT_EQ(stuffMass(r, classes), 9.f);
+    EXPECT_FALSE(isThing(r, classes, 0.9));  // stuff share 0.9 is not < 0.9
+    r.semantic.add(5, 0.25f);                // share 9/10.25 = 0.878
+    EXPECT_TRUE(isThing(r, classes, 0.9));
+    EXPECT_FALSE(isThing(LabelRecord{}, classes, 0.9));  // no semantic mass
 }
 
 TEST(InstanceRules, PThingFlipsAtThetaO)
@@ -91,9 +92,10 @@ TEST(InstanceRules, PThingFlipsAtThetaO)
     InstanceRecord z;
     z.hist.add(1, 8.f);
     z.n_z = 25;
-    EXPECT_TRUE(isPanopticThing(r, z, 0.9, 0.25));
+    const ClassSet classes = ClassSet::nyuv2_40();
+    EXPECT_TRUE(isPanopticThing(r, z, classes, 0.9, 0.25));
     z.n_z = 24;
-    EXPECT_FALSE(isPanopticThing(r, z, 0.9, 0.25));
+    EXPECT_FALSE(isPanopticThing(r, z, classes, 0.9, 0.25));
 }
 
 TEST(InstanceRules, MatchThresholds)

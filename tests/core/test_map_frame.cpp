@@ -1,5 +1,6 @@
 // PanopticMap on hand-made frames: counts, hit/miss log-odds, bad input.
 #include <gtest/gtest.h>
+#include <pndt/instance_rules.h>
 #include <pndt/panoptic_map.h>
 
 #include <cmath>
@@ -126,7 +127,7 @@ TEST(PanopticMapFrame, SemanticHistogramCountsPixelsAboveThetaL)
     // Pixels of that voxel: cols 32..33 and rows 24..25 (x,y in [0,0.1) at 2 m, f=32).
     EXPECT_EQ(r->n_l, 3u);
     EXPECT_FLOAT_EQ(r->semantic.weightOf(1), 2.4f);
-    EXPECT_FLOAT_EQ(r->stuff_sum, 2.4f);
+    EXPECT_FLOAT_EQ(stuffMass(*r, map.options().classes), 2.4f);
     EXPECT_EQ(map.semanticLabel(wall), 1);
     EXPECT_EQ(map.labelAt({0.05, 0.05, 2.0}).semantic, 1);
 }

@@ -5,6 +5,7 @@
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/serialization/CArchive.h>
+#include <pndt/instance_rules.h>
 #include <pndt/mrpt/map_files.h>
 
 #include <cstring>
@@ -52,8 +53,6 @@ void expectSameState(const PanopticMap& a, const PanopticMap& b)
         ASSERT_EQ(x.semantic.size(), y.semantic.size());
         EXPECT_EQ(0, std::memcmp(x.semantic.ids, y.semantic.ids, sizeof(x.semantic.ids)));
         EXPECT_EQ(0, std::memcmp(x.semantic.weights, y.semantic.weights, sizeof(x.semantic.weights)));
-        EXPECT_EQ(0, std::memcmp(&x.semantic.sum, &y.semantic.sum, sizeof(float)));
-        EXPECT_EQ(0, std::memcmp(&x.stuff_sum, &y.stuff_sum, sizeof(float)));
         EXPECT_EQ(x.n_l, y.n_l);
         EXPECT_EQ(x.instances, y.instances);
     }
@@ -65,7 +64,6 @@ void expectSameState(const PanopticMap& a, const PanopticMap& b)
         ASSERT_EQ(x.size(), y.size());
         EXPECT_EQ(0, std::memcmp(x.ids, y.ids, sizeof(x.ids)));
         EXPECT_EQ(0, std::memcmp(x.weights, y.weights, sizeof(x.weights)));
-        EXPECT_EQ(0, std::memcmp(&x.sum, &y.sum, sizeof(float)));
     }
     EXPECT_EQ(a.nextInstanceId(), b.nextInstanceId());
     EXPECT_EQ(a.pairEvidence(), b.pairEvidence());
@@ -212,8 +210,8 @@ std::vector<uint8_t> version0Payload(const PanopticNDTMap& m, LabelDamage damage
         a << uint8_t(r.semantic.size() + (damage == LabelDamage::EmptyEntryInside && &r == &recs[0]));
     for (const LabelRecord& r : recs) a.WriteBuffer(r.semantic.ids, sizeof(r.semantic.ids));
     for (const LabelRecord& r : recs) a.WriteBufferFixEndianness(r.semantic.weights, 8);
-    for (const LabelRecord& r : recs) a << r.semantic.sum;
-    for (const LabelRecord& r : recs) a << r.stuff_sum;
+    for (const LabelRecord& r : recs) a << r.semantic.sum();
+    for (const LabelRecord& r : recs) a << stuffMass(r, o.classes);
     for (const LabelRecord& r : recs) a << r.n_l;
     const auto& irecs = map.instanceRecords();
     for (const LabelRecord& r : recs)  // n^Z is stored per label record
@@ -225,7 +223,7 @@ std::vector<uint8_t> version0Payload(const PanopticNDTMap& m, LabelDamage damage
     for (const auto& r : irecs) a << uint8_t(r.hist.size());
     for (const auto& r : irecs) a.WriteBufferFixEndianness(r.hist.ids, 16);
     for (const auto& r : irecs) a.WriteBufferFixEndianness(r.hist.weights, 16);
-    for (const auto& r : irecs) a << r.hist.sum;
+    for (const auto& r : irecs) a << r.hist.sum();
     const auto* p = static_cast<const uint8_t*>(mem.getRawBufferData());
     return {p, p + mem.getTotalBytesCount()};
 }

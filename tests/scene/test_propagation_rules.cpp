@@ -21,7 +21,6 @@ struct VoxelSpec
 PanopticMap build(const std::vector<VoxelSpec>& specs, uint32_t next_id, MapOptions options = {},
                   std::vector<int32_t> at = {})
 {
-    const ClassSet classes = ClassSet::nyuv2_40();
     std::vector<uint64_t> keys;
     std::vector<Voxel> voxels;
     std::vector<SurfaceRecord> surfaces;
@@ -39,11 +38,7 @@ PanopticMap build(const std::vector<VoxelSpec>& specs, uint32_t next_id, MapOpti
         s.labels = uint32_t(labels.size());
         surfaces.push_back(s);
         LabelRecord r;
-        for (const auto& [c, w] : specs[i].semantic)
-        {
-            r.semantic.add(c, w);
-            if (!classes.isThing(c)) r.stuff_sum += w;
-        }
+        for (const auto& [c, w] : specs[i].semantic) r.semantic.add(c, w);
         r.n_l = specs[i].n_l;
         if (!specs[i].instances.empty())
         {

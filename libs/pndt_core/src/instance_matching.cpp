@@ -119,7 +119,7 @@ void PanopticMap::matchInstances(const PanopticFrame& f, const Pose& T, FrameSta
         const Voxel& v = store_[vi];
         if (!isOccupied(v)) continue;
         const LabelRecord* rec = labelsOf(v);
-        if (!rec || rec->instances == kNoRecord || !isThing(*rec, options_.theta_st)) continue;
+        if (!rec || rec->instances == kNoRecord || !isThing(*rec, options_.classes, options_.theta_st)) continue;
         const auto& hist = instance_records_[rec->instances].hist;
         for (int j = 0, n = hist.size(); j < n; ++j)
             if (isInTopZ(hist, hist.ids[j], options_.theta_b)) s.candidates.emplace_back(hist.ids[j], vi);

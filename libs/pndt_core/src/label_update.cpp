@@ -96,7 +96,6 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
     const size_t i_end = size_t(band.home_last_row + 1) * W;
     const bool instances = f.hasInstances();
     const float theta_l = float(options_.theta_l), theta_z = float(options_.theta_z);
-    const ClassSet& classes = options_.classes;
     const int32_t* slots = s.pixel_slot.data();
     const uint16_t* sem = f.semantic.data.data();
     const float* sem_score = f.semantic_score.data.data();
@@ -118,20 +117,17 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
     // Current semantic run: class, entry index and the accumulated floats.
     uint8_t run_l = 0;
     int run_li = 0;
-    bool run_stuff = false;
-    float run_lw = 0, run_lsum = 0, run_stuff_sum = 0;
+    float run_lw = 0;
     uint32_t run_nl = 0;
     // Current instance run.
     uint32_t run_z = 0;
     int run_zi = 0;
-    float run_zw = 0, run_zsum = 0;
+    float run_zw = 0;
     uint32_t run_nz = 0;
 
     const auto flushSemantic = [&] {
         if (run_l == 0) return;
         rec->semantic.weights[run_li] = run_lw;
-        rec->semantic.sum = run_lsum;
-        rec->stuff_sum = run_stuff_sum;
         rec->n_l += run_nl;
         bubbleUp(rec->semantic, run_li);
         run_l = 0;
@@ -139,7 +135,6 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
     const auto flushInstance = [&] {
         if (run_z == 0) return;
         inst->hist.weights[run_zi] = run_zw;
-        inst->hist.sum = run_zsum;
         inst->n_z += run_nz;
         bubbleUp(inst->hist, run_zi);
         run_z = 0;
@@ -194,7 +189,6 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
             {
                 const float add = take ? sp : 0.f;
                 run_zw += add;
-                run_zsum += add;
                 run_nz += take;
                 instance_updates += take;
             }
@@ -216,7 +210,6 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
                     if (run_zi >= 0)
                     {
                         run_zw = inst->hist.weights[run_zi] + sp;
-                        run_zsum = inst->hist.sum + sp;
                         run_nz = 1;
                     }
                     else
@@ -225,7 +218,6 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
                         ++inst->n_z;
                         run_zi = inst->hist.indexOf(z);
                         run_zw = inst->hist.weights[run_zi];
-                        run_zsum = inst->hist.sum;
                         run_nz = 0;
                     }
                     run_z = z;
@@ -240,8 +232,6 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
         {
             const float add = take ? sl : 0.f;
             run_lw += add;
-            run_lsum += add;
-            run_stuff_sum += run_stuff ? add : 0.f;
             run_nl += take;
             semantic_updates += take;
         }
@@ -251,30 +241,21 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
             {
                 flushSemantic();
                 LabelRecord& r = labelRecord();
-                const bool stuff = !classes.isThing(L);
                 run_li = r.semantic.indexOf(uint8_t(L));
                 if (run_li >= 0)
                 {
                     run_lw = r.semantic.weights[run_li] + sl;
-                    run_lsum = r.semantic.sum + sl;
-                    run_stuff_sum = stuff ? r.stuff_sum + sl : r.stuff_sum;
                     run_nl = 1;
                 }
                 else
                 {
-                    float evicted_w = 0;
-                    const uint8_t evicted = r.semantic.add(uint8_t(L), sl, &evicted_w);
-                    if (stuff) r.stuff_sum += sl;
-                    if (evicted != 0 && !classes.isThing(evicted)) r.stuff_sum = std::max(0.f, r.stuff_sum - evicted_w);
+                    r.semantic.add(uint8_t(L), sl);
                     ++r.n_l;
                     run_li = r.semantic.indexOf(uint8_t(L));
                     run_lw = r.semantic.weights[run_li];
-                    run_lsum = r.semantic.sum;
-                    run_stuff_sum = r.stuff_sum;
                     run_nl = 0;
                 }
                 run_l = uint8_t(L);
-                run_stuff = stuff;
             }
         }
     }

@@ -286,7 +286,7 @@ uint32_t PanopticMap::topInstance(const Voxel& v) const
     const LabelRecord* rec = labelsOf(v);
     if (!rec || rec->instances == kNoRecord) return 0;
     const InstanceRecord& z = instance_records_[rec->instances];
-    return isPanopticThing(*rec, z, options_.theta_st, options_.theta_o) ? z.hist.top() : 0;
+    return isPanopticThing(*rec, z, options_.classes, options_.theta_st, options_.theta_o) ? z.hist.top() : 0;
 }
 
 void PanopticMap::finalize() const { ensurePropagated(); }

@@ -69,7 +69,7 @@ size_t VoxelStore::memoryBytes() const
 {
     // A robin_map bucket holds the pair, its distance to the ideal bucket and a flag.
     constexpr size_t bucket = sizeof(std::pair<uint64_t, uint32_t>) + 8;
-    return voxels_.bytesUsed() + where_.bytesUsed() + slots_.bytesUsed() + brick_origin_.bytesUsed() +
+    return voxels_.bytesUsed() + where_.bytesUsed() + slots_.bytesUsed() + brick_origin_.capacity() * sizeof(VoxelKey) +
            brick_index_.bucket_count() * bucket;
 }
 

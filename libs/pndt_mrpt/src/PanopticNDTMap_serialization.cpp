@@ -19,6 +19,7 @@
 // shape or labels a surface record, in voxel order.
 #include <fmt/format.h>
 #include <mrpt/serialization/CArchive.h>
+#include <pndt/instance_rules.h>
 #include <pndt/mrpt/PanopticNDTMap.h>
 
 #include <cstring>
@@ -161,8 +162,8 @@ void PanopticNDTMap::serializeTo(CArchive& out) const
         sem_size[i] = uint8_t(r.semantic.size());
         std::memcpy(&sem_ids[SC * i], r.semantic.ids, SC);
         std::memcpy(&sem_w[SC * i], r.semantic.weights, SC * sizeof(float));
-        sem_sum[i] = r.semantic.sum;
-        stuff[i] = r.stuff_sum;
+        sem_sum[i] = r.semantic.sum();  // derived; kept in the format for its readers
+        stuff[i] = stuffMass(r, map_.options().classes);
         n_l[i] = r.n_l;
         n_z[i] = r.instances != kNoRecord && r.instances < inst_recs.size() ? inst_recs[r.instances].n_z : 0;
         inst[i] = r.instances;
@@ -189,7 +190,7 @@ void PanopticNDTMap::serializeTo(CArchive& out) const
         i_size[i] = uint8_t(h.size());
         std::memcpy(&i_ids[IC * i], h.ids, IC * sizeof(uint32_t));
         std::memcpy(&i_w[IC * i], h.weights, IC * sizeof(float));
-        i_sum[i] = h.sum;
+        i_sum[i] = h.sum();
     }
     out << uint64_t(ni);
     writeArray(out, i_size);
@@ -313,7 +314,7 @@ void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
                 readArray(in, sem_size, nl);
                 readArray(in, sem_ids, SC * nl);
                 readArray(in, sem_w, SC * nl);
-                readArray(in, sem_sum, nl);
+                readArray(in, sem_sum, nl);  // sums are derived from the entries: read past
                 readArray(in, stuff, nl);
                 readArray(in, n_l, nl);
                 readArray(in, n_z, nl);
@@ -325,8 +326,6 @@ void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
                     const int used = checkedEntries(sem_size[i], SC, &sem_ids[SC * i], "label record", i);
                     std::memcpy(r.semantic.ids, &sem_ids[SC * i], size_t(used));
                     std::memcpy(r.semantic.weights, &sem_w[SC * i], size_t(used) * sizeof(float));
-                    r.semantic.sum = sem_sum[i];
-                    r.stuff_sum = stuff[i];
                     r.n_l = n_l[i];
                     r.instances = inst[i];
                 }
@@ -348,7 +347,6 @@ void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
                     const int used = checkedEntries(i_size[i], IC, &i_ids[IC * i], "instance record", i);
                     std::memcpy(h.ids, &i_ids[IC * i], size_t(used) * sizeof(uint32_t));
                     std::memcpy(h.weights, &i_w[IC * i], size_t(used) * sizeof(float));
-                    h.sum = i_sum[i];
                 }
                 // n^Z is stored with the label record (format v0-v3) and kept
                 // with the instance histogram, the only place it can grow.

@@ -6,11 +6,21 @@
 
 namespace pndt
 {
+/// The stuff part of h^L: the weight of its stuff classes.
+inline float stuffMass(const LabelRecord& r, const ClassSet& classes)
+{
+    float stuff = 0;
+    for (int j = 0, n = r.semantic.size(); j < n; ++j)
+        if (!classes.isThing(r.semantic.ids[j])) stuff += r.semantic.weights[j];
+    return stuff;
+}
+
 /// isthing(v): the stuff share of h^L is below theta_st. A voxel without
 /// semantic mass is not a thing.
-inline bool isThing(const LabelRecord& r, double theta_st)
+inline bool isThing(const LabelRecord& r, const ClassSet& classes, double theta_st)
 {
-    return r.semantic.sum > 0 && double(r.stuff_sum) / double(r.semantic.sum) < theta_st;
+    const float sum = r.semantic.sum();
+    return sum > 0 && double(stuffMass(r, classes)) / double(sum) < theta_st;
 }
 
 /// isintopz(v, z): z belongs to the highest-weight entries that together hold at
@@ -19,19 +29,21 @@ inline bool isThing(const LabelRecord& r, double theta_st)
 inline bool isInTopZ(const SparseHistogram<uint32_t, 16>& h, uint32_t z, double theta_b)
 {
     const int i = h.indexOf(z);
-    if (i < 0 || h.sum <= 0) return false;
+    const float sum = h.sum();
+    if (i < 0 || sum <= 0) return false;
     const float wz = h.weights[i];
     double cum = 0;
     for (int j = 0, n = h.size(); j < n; ++j)
         if (h.weights[j] <= wz) cum += h.weights[j];
-    return cum >= (1.0 - theta_b) * double(h.sum);
+    return cum >= (1.0 - theta_b) * double(sum);
 }
 
 /// pthing(v): a thing voxel that saw instances often enough relative to its
 /// semantic observations (n^Z / n^L >= theta_o).
-inline bool isPanopticThing(const LabelRecord& r, const InstanceRecord& z, double theta_st, double theta_o)
+inline bool isPanopticThing(const LabelRecord& r, const InstanceRecord& z, const ClassSet& classes, double theta_st,
+                            double theta_o)
 {
-    return isThing(r, theta_st) && r.n_l > 0 && double(z.n_z) >= theta_o * double(r.n_l);
+    return isThing(r, classes, theta_st) && r.n_l > 0 && double(z.n_z) >= theta_o * double(r.n_l);
 }
 
 /// Adds a voxel's thing-class mass of h^L to per-class sums (an instance's class

@@ -1,7 +1,8 @@
 // Fixed-capacity histogram kept sorted by weight (largest first); when full, a
 // new id replaces the smallest entry (design §2). Id 0 (void, no instance) is
-// never stored: it marks the free entries, which follow the used ones, so the
-// histogram keeps no count of its own (a byte that cost 4 with padding).
+// never stored: it marks the free entries, which follow the used ones. Count
+// and sum are derived from the entries, not stored: they cost 8 bytes per
+// histogram, and histograms are most of a map's memory.
 #pragma once
 
 #include <cstdint>
@@ -16,7 +17,6 @@ struct SparseHistogram
 
     Id ids[Capacity]{};
     float weights[Capacity]{};
-    float sum = 0;  ///< sum of the stored weights
 
     /// Entries in use.
     int size() const
@@ -24,6 +24,13 @@ struct SparseHistogram
         int n = 0;
         while (n < Capacity && ids[n] != 0) ++n;
         return n;
+    }
+    /// Sum of the stored weights, strongest first.
+    float sum() const
+    {
+        float s = 0;
+        for (int i = 0; i < Capacity && ids[i] != 0; ++i) s += weights[i];
+        return s;
     }
     /// Adds `w` to `id` (not 0). When full, the smallest entry is evicted: its
     /// id is returned (0 otherwise) and its weight stored in `evicted_weight`.
@@ -44,11 +51,9 @@ struct SparseHistogram
             i = Capacity - 1;
             evicted = ids[i];
             if (evicted_weight) *evicted_weight = weights[i];
-            sum -= weights[i];
             ids[i] = id;
             weights[i] = w;
         }
-        sum += w;
         // Restore descending order; ties keep the older entry first.
         while (i > 0 && weights[i] > weights[i - 1])
         {

@@ -31,13 +31,13 @@ struct SurfaceRecord
     uint32_t labels = kNoRecord;  ///< index into the LabelRecord pool
 };
 
-/// Semantic histogram h^L (sparse: a surface voxel sees few classes), its stuff
-/// part and the update counter n^L.
+/// Semantic histogram h^L (sparse: a surface voxel sees few classes) and the
+/// update counter n^L. Its sum and stuff part are derived from the entries
+/// (instance_rules.h).
 struct LabelRecord
 {
     static constexpr int kSemanticCapacity = 8;
     SparseHistogram<uint8_t, kSemanticCapacity> semantic;
-    float stuff_sum = 0;
     uint32_t n_l = 0;
     uint32_t instances = kNoRecord;  ///< index into the InstanceRecord pool
 };
@@ -52,7 +52,7 @@ struct InstanceRecord
 };
 
 // Most of a map's memory (doc/benchmarks.md): keep an eye on padding.
-static_assert(sizeof(SurfaceRecord) == 44 && sizeof(LabelRecord) == 56 && sizeof(InstanceRecord) == 136);
+static_assert(sizeof(SurfaceRecord) == 44 && sizeof(LabelRecord) == 48 && sizeof(InstanceRecord) == 132);
 
 /// Propagated panoptic label <semantic, instance> (instance 0 = none).
 struct PanopticLabel

@@ -101,7 +101,7 @@ class VoxelStore
     uint32_t create(uint32_t brick, uint32_t slot);
 
     tsl::robin_map<uint64_t, uint32_t, PackedKeyHash> brick_index_;  ///< packed brick key -> brick
-    RecordPool<VoxelKey> brick_origin_;  ///< per brick: key of its voxel (0,0,0)
+    std::vector<VoxelKey> brick_origin_;  ///< per brick: key of its voxel (0,0,0); small, so on the heap
     RecordPool<uint32_t> slots_;         ///< per brick 512 voxel indices
     RecordPool<Voxel> voxels_;
     RecordPool<uint32_t> where_;         ///< per voxel: brick << 9 | slot
