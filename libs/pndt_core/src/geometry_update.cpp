@@ -175,6 +175,8 @@ void PanopticMap::projectPixels(const PanopticFrame& f, const Pose& T, FrameStat
     // A bit per voxel, not a frame stamp: 0.125 instead of 4 bytes per voxel.
     const size_t words = (store_.size() + 63) / 64;
     if (s.hit_bits.size() < words) s.hit_bits.resize(words + words / 4, 0);
+    if (s.hit_bits_set) std::fill(s.hit_bits.begin(), s.hit_bits.end(), 0);
+    s.hit_bits_set = true;
     for (uint32_t i = 0; i < g.count; ++i) s.hit_bits[g.hits[i].voxel >> 6] |= uint64_t(1) << (g.hits[i].voxel & 63);
 }
 
@@ -360,6 +362,7 @@ void PanopticMap::updateOccupancy(const Pose& T, FrameStats& st)
     const int used = threads > 1 && tasks > 1 ? threads : 1;
     const HitSlot* hits = s.hits();
     for (uint32_t i = 0, n = s.hitCount(); i < n; ++i) s.hit_bits[hits[i].voxel >> 6] = 0;  // whole words: all were 0 before
+    s.hit_bits_set = false;
     st.rays = rays;
     for (int t = 0; t < used; ++t) st.ray_steps += s.ray_workers[size_t(t)].steps;
 

@@ -189,6 +189,7 @@ struct PanopticMap::Scratch
     std::vector<ProjectionBand> bands;    ///< bands[0] holds the merged frame result
     int band_count = 1;                   ///< bands used by this frame
     std::vector<uint64_t> hit_bits;       ///< per voxel one bit: hit in this frame (until its rays are cast)
+    bool hit_bits_set = false;            ///< set and not cleared yet (a frame that threw in between)
 
     // free space
     std::vector<RayWorker> ray_workers;
