@@ -345,21 +345,42 @@ void PanopticMap::updateOccupancy(const Pose& T, FrameStats& st)
     Scratch& s = *scratch_;
     const Eigen::Vector3d origin = T.translation();
     const size_t rays = options_.ray_mode == RayMode::Merged ? s.hitCount() : s.bands[0].points.size();
-    // Small chunks of rays, taken by whichever thread is free; each thread
-    // collects its misses in its own blocks (the minimum over threads does not
-    // depend on who cast which ray).
+    // Each thread collects its misses in its own blocks (the minimum over
+    // threads does not depend on who cast which ray). Each thread walks a
+    // contiguous share of the rays, in small chunks, and then takes the chunks
+    // left in the others' shares: neighbouring rays cross the same bricks, so
+    // a brick mostly lives in one thread's blocks, classified once and merged
+    // from one block (interleaved chunks made every thread visit every brick).
     const int threads = s.pool ? s.threads : 1;
     if (s.ray_workers.size() < size_t(threads)) s.ray_workers.resize(size_t(threads));
     for (int t = 0; t < threads; ++t) s.ray_workers[size_t(t)].clear();
     constexpr size_t kChunk = 128;
-    const int tasks = int((rays + kChunk - 1) / kChunk);
-    if (threads > 1 && tasks > 1)
-        s.pool->runWithThread(tasks, [&](int t, int thread) {
-            castRays(origin, size_t(t) * kChunk, std::min(rays, size_t(t + 1) * kChunk), s.ray_workers[size_t(thread)]);
+    const bool parallel = threads > 1 && rays > kChunk;
+    if (parallel)
+    {
+        if (s.ray_share_count != threads)
+        {
+            s.ray_shares = std::make_unique<Scratch::RayShare[]>(size_t(threads));
+            s.ray_share_count = threads;
+        }
+        for (int t = 0; t < threads; ++t)
+        {
+            s.ray_shares[size_t(t)].next.store(share(rays, t, threads));
+            s.ray_shares[size_t(t)].end = share(rays, t + 1, threads);
+        }
+        s.pool->runWithThread(threads, [&](int, int thread) {
+            RayWorker& w = s.ray_workers[size_t(thread)];
+            for (int k = 0; k < threads; ++k)
+            {
+                Scratch::RayShare& sh = s.ray_shares[size_t((thread + k) % threads)];
+                for (size_t i0; (i0 = sh.next.fetch_add(kChunk)) < sh.end;)
+                    castRays(origin, i0, std::min(sh.end, i0 + kChunk), w);
+            }
         });
+    }
     else
         castRays(origin, 0, rays, s.ray_workers[0]);
-    const int used = threads > 1 && tasks > 1 ? threads : 1;
+    const int used = parallel ? threads : 1;
     const HitSlot* hits = s.hits();
     for (uint32_t i = 0, n = s.hitCount(); i < n; ++i) s.hit_bits[hits[i].voxel >> 6] = 0;  // whole words: all were 0 before
     s.hit_bits_set = false;

@@ -6,6 +6,7 @@
 #include <pndt/panoptic_map.h>
 #include <tsl/robin_map.h>
 
+#include <atomic>
 #include <memory>
 #include <vector>
 
@@ -203,6 +204,14 @@ struct PanopticMap::Scratch
         }
     };
     std::vector<BlockRef> block_refs;
+    /// One thread's share of the rays: the next chunk to cast and the end.
+    struct alignas(64) RayShare
+    {
+        std::atomic<size_t> next{0};
+        size_t end = 0;
+    };
+    std::unique_ptr<RayShare[]> ray_shares;
+    int ray_share_count = 0;
     size_t frame_bricks = 0, frame_gaussians = 0;  ///< distinct bricks and Gaussians the rays met
     std::vector<std::pair<size_t, size_t>> miss_groups;  ///< block_refs of one brick
     std::vector<MissChunk> miss_chunks;
