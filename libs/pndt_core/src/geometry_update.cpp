@@ -83,12 +83,16 @@ void PanopticMap::projectPixels(const PanopticFrame& f, const Pose& T, FrameStat
         projectBand(f, T, 0, 1);
 
     // Merge the bands into band 0 in band order: frame slots stay in order of
-    // their first pixel, as with a single band.
+    // their first pixel, as with a single band. Pixels keep their band's local
+    // slot and readers translate with the band's remap (identity for band 0):
+    // that saves a pass over the image.
     // Each band is also the home of the voxels it saw first (a contiguous range
     // of slots), and remembers how far down the image they reach.
     ProjectionBand& g = s.bands[0];
     g.home_begin = 0;
     g.home_end = g.count;
+    g.remap.resize(g.count);
+    for (uint32_t j = 0; j < g.count; ++j) g.remap[j] = j;
     for (int b = 1; b < B; ++b)
     {
         ProjectionBand& band = s.bands[size_t(b)];
@@ -120,15 +124,6 @@ void PanopticMap::projectPixels(const PanopticFrame& f, const Pose& T, FrameStat
         for (uint32_t h = band.home_begin; h < band.home_end; ++h)
             band.home_last_row = std::max(band.home_last_row, g.last_row[h]);
     }
-    if (B > 1)
-        s.pool->run(B - 1, [&](int task) {
-            const int b = task + 1;
-            ProjectionBand& band = s.bands[size_t(b)];
-            int32_t* slot = s.pixel_slot.data() + size_t(H * b / B) * W;
-            int32_t* const last = s.pixel_slot.data() + size_t(H * (b + 1) / B) * W;
-            for (; slot != last; ++slot)
-                if (*slot >= 0) *slot = int32_t(band.remap[size_t(*slot)]);
-        });
 
     st.pixels = uint64_t(W) * H;
     for (int b = 0; b < B; ++b)

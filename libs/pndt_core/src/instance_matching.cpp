@@ -66,19 +66,22 @@ void PanopticMap::matchInstances(const PanopticFrame& f, const Pose& T, FrameSta
 {
     Scratch& s = *scratch_;
     const size_t N = f.depth.data.size();
-    const int H = f.depth.height, W = f.depth.width;
     const int threads = s.pool ? s.threads : 1;
 
     // Predicted instances, counted on pixels that were mapped (valid depth): row
     // bands with their own tables, merged in band order (first occurrence).
     s.pixel_predicted.resize(N);
-    const int B = std::max(1, std::min(threads > 1 ? 4 * threads : 1, H));
+    const int B = s.band_count;  // the projection's bands: one row-to-band rule for both
     if (s.predicted_bands.size() < size_t(B)) s.predicted_bands.resize(size_t(B));
     if (B > 1)
         s.pool->run(B, [&](int b) { predictedBand(f, b, B); });
     else
         predictedBand(f, 0, 1);
+    // Merged into band 0 in band order (first occurrence). Pixels keep their
+    // band's local index; readers translate with the band's remap.
     PredictedBand& g = s.predicted_bands[0];
+    g.remap.resize(g.ids.size());
+    for (size_t j = 0; j < g.ids.size(); ++j) g.remap[j] = int32_t(j);
     for (int b = 1; b < B; ++b)
     {
         PredictedBand& pb = s.predicted_bands[size_t(b)];
@@ -96,15 +99,6 @@ void PanopticMap::matchInstances(const PanopticFrame& f, const Pose& T, FrameSta
             pb.remap[j] = int32_t(it->second);
         }
     }
-    if (B > 1)
-        s.pool->run(B - 1, [&](int task) {
-            const int b = task + 1;
-            const PredictedBand& pb = s.predicted_bands[size_t(b)];
-            int32_t* p = s.pixel_predicted.data() + size_t(H * b / B) * W;
-            int32_t* const last = s.pixel_predicted.data() + size_t(H * (b + 1) / B) * W;
-            for (; p != last; ++p)
-                if (*p >= 0) *p = pb.remap[size_t(*p)];
-        });
     const size_t P = g.ids.size();
     st.predicted_instances = P;
     s.predicted_decision.assign(P, 0);
@@ -394,6 +388,7 @@ void PanopticMap::forEachMaskPixel(uint32_t voxel, const Pose& T_cam_world, cons
     const float* depth = f.depth.data.data();
     for (int r = r0; r <= r1; ++r)
     {
+        const int32_t* to_frame = s.predicted_bands[size_t(s.bandOfRow(r, H))].remap.data();
         int a = c0, b = c1;
         if (ellipse)
         {
@@ -413,7 +408,7 @@ void PanopticMap::forEachMaskPixel(uint32_t voxel, const Pose& T_cam_world, cons
             const size_t i = row + c;
             const int32_t p = predicted[i];
             if (p == kUnmappedPixel || std::abs(depth[i] - z0) > tol) continue;  // depth test
-            visit(i, p);
+            visit(i, p >= 0 ? to_frame[p] : p);
         }
     }
 }

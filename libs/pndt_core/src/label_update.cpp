@@ -150,10 +150,22 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
         return *rec;
     };
 
+    // Pixels hold their band's local slot and predicted index: translated with
+    // the remaps of the band each row belongs to.
+    const uint32_t* slot_of = nullptr;
+    const int32_t* predicted_of = nullptr;
+    size_t band_end = i_begin;
     for (size_t i = i_begin; i < i_end; ++i)
     {
-        const int32_t slot = slots[i];
-        if (slot < 0) continue;
+        if (i == band_end)
+        {
+            const int b = s.bandOfRow(int(i / size_t(W)), H);
+            band_end = std::min(i_end, size_t(H * (b + 1) / s.band_count) * W);
+            slot_of = s.bands[size_t(b)].remap.data();
+            if (instances) predicted_of = s.predicted_bands[size_t(b)].remap.data();
+        }
+        if (slots[i] < 0) continue;
+        const int32_t slot = int32_t(slot_of[slots[i]]);
         if (slot != cur)  // neighbouring pixels mostly share a voxel
         {
             if (uint32_t(slot) < home_begin || uint32_t(slot) >= home_end) continue;  // another band's voxel
@@ -179,7 +191,7 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
         {
             const int32_t p = predicted[i];
             const uint32_t z = split_stamp && split_stamp[i] == split_now ? split_id[i]
-                               : p >= 0                                   ? decision[size_t(p)]
+                               : p >= 0                                   ? decision[size_t(predicted_of[p])]
                                                                           : 0;
             const float sp = pan_score[i];
             // Scores near the threshold make "is it an update" unpredictable:

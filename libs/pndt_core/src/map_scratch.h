@@ -62,7 +62,7 @@ struct ProjectionBand
     tsl::robin_map<uint64_t, uint32_t, PackedKeyHash> index;  ///< packed key -> local slot
     std::vector<HitSlot> hits;
     uint32_t count = 0;
-    std::vector<uint32_t> remap;                 ///< local slot -> frame slot
+    std::vector<uint32_t> remap;                 ///< local slot -> frame slot (identity in band 0)
     std::vector<Eigen::Vector3d> points;         ///< RayMode::PerPixel only
     std::vector<int32_t> last_row;               ///< per local slot: last image row it was seen in
     uint32_t home_begin = 0, home_end = 0;       ///< frame slots first seen in this band
@@ -153,7 +153,7 @@ struct PredictedBand
     std::vector<uint32_t> ids;
     std::vector<uint64_t> area;                ///< mapped pixels
     std::vector<uint16_t> cls;                 ///< semantic class at its first pixel
-    std::vector<int32_t> remap;                ///< local index -> frame index
+    std::vector<int32_t> remap;                ///< local index -> frame index (identity in band 0)
 };
 
 /// Per-thread stamps of the mask rasterisation: a pixel counts once per mask.
@@ -186,9 +186,9 @@ struct PanopticMap::Scratch
 
     // projection
     ProjectionSetup projection;
-    std::vector<int32_t> pixel_slot;      ///< per pixel: frame hit slot, -1 not mapped
+    std::vector<int32_t> pixel_slot;      ///< per pixel: its band's local hit slot (remap: frame slot), -1 not mapped
     std::vector<ProjectionBand> bands;    ///< bands[0] holds the merged frame result
-    int band_count = 1;                   ///< bands used by this frame
+    int band_count = 1;                   ///< bands used by this frame (projection and predicted instances)
     std::vector<uint64_t> hit_bits;       ///< per voxel one bit: hit in this frame (until its rays are cast)
     bool hit_bits_set = false;            ///< set and not cleared yet (a frame that threw in between)
 
@@ -219,7 +219,7 @@ struct PanopticMap::Scratch
     // instance matching
     std::vector<PredictedBand> predicted_bands;          ///< [0]: the frame's predicted instances
     std::vector<uint32_t> predicted_decision;            ///< matched/new map id, 0 = none
-    std::vector<int32_t> pixel_predicted;                ///< per pixel local index, -1 none, kUnmappedPixel
+    std::vector<int32_t> pixel_predicted;                ///< per pixel its band's local index, -1 none, kUnmappedPixel
     std::vector<std::pair<uint32_t, uint32_t>> candidates;  ///< (map instance, voxel index), sorted
     std::vector<std::pair<size_t, size_t>> groups;       ///< candidates of one map instance
     std::vector<uint64_t> group_area;                    ///< per group: mask area
@@ -250,6 +250,8 @@ struct PanopticMap::Scratch
     std::vector<SlotRecords> slot_records;
     std::vector<HistogramWorker> hist_workers;  ///< per band
 
+    /// The band that image row r (of H) belongs to: rows [H*b/B, H*(b+1)/B).
+    int bandOfRow(int r, int H) const { return int((int64_t(band_count) * (r + 1) - 1) / H); }
     HitSlot* hits() { return bands[0].hits.data(); }
     uint32_t hitCount() const { return bands[0].count; }
 };
