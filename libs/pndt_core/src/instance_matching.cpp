@@ -104,21 +104,42 @@ void PanopticMap::matchInstances(const PanopticFrame& f, const Pose& T, FrameSta
     s.predicted_decision.assign(P, 0);
     if (P == 0) return;
 
-    // Candidate voxels: thing voxels seen in this frame, once per top-z instance.
-    s.candidates.clear();
-    const HitSlot* hits = s.hits();
-    for (uint32_t h = 0; h < s.hitCount(); ++h)
+    // Candidate voxels: thing voxels seen in this frame, once per top-z instance,
+    // sorted by (instance, voxel). Each task sorts the pairs of its share of the
+    // frame's voxels; the sorted shares are then merged (the pairs are unique, so
+    // the result does not depend on the shares).
+    const uint32_t nh = s.hitCount();
+    const int parts = threads > 1 && nh >= 1024 ? 4 * threads : 1;
+    if (s.candidate_parts.size() < size_t(parts)) s.candidate_parts.resize(size_t(parts));
+    const auto collect = [&](int t) {
+        auto& part = s.candidate_parts[size_t(t)];
+        part.clear();
+        const HitSlot* hits = s.hits();
+        for (uint32_t h = uint32_t(uint64_t(nh) * t / parts), e = uint32_t(uint64_t(nh) * (t + 1) / parts); h < e; ++h)
+        {
+            const uint32_t vi = hits[h].voxel;
+            const Voxel& v = store_[vi];
+            if (!isOccupied(v)) continue;
+            const LabelRecord* rec = labelsOf(v);
+            if (!rec || rec->instances == kNoRecord || !isThing(*rec, options_.classes, options_.theta_st)) continue;
+            const auto& hist = instance_records_[rec->instances].hist;
+            for (int j = 0, n = hist.size(); j < n; ++j)
+                if (isInTopZ(hist, hist.ids[j], options_.theta_b)) part.emplace_back(hist.ids[j], vi);
+        }
+        std::sort(part.begin(), part.end());
+    };
+    if (parts > 1)
+        s.pool->run(parts, collect);
+    else
+        collect(0);
+    s.candidates.swap(s.candidate_parts[0]);
+    for (int t = 1; t < parts; ++t)
     {
-        const uint32_t vi = hits[h].voxel;
-        const Voxel& v = store_[vi];
-        if (!isOccupied(v)) continue;
-        const LabelRecord* rec = labelsOf(v);
-        if (!rec || rec->instances == kNoRecord || !isThing(*rec, options_.classes, options_.theta_st)) continue;
-        const auto& hist = instance_records_[rec->instances].hist;
-        for (int j = 0, n = hist.size(); j < n; ++j)
-            if (isInTopZ(hist, hist.ids[j], options_.theta_b)) s.candidates.emplace_back(hist.ids[j], vi);
+        const auto& part = s.candidate_parts[size_t(t)];
+        s.candidate_merge.resize(s.candidates.size() + part.size());
+        std::merge(s.candidates.begin(), s.candidates.end(), part.begin(), part.end(), s.candidate_merge.begin());
+        s.candidates.swap(s.candidate_merge);
     }
-    std::sort(s.candidates.begin(), s.candidates.end());
     s.groups.clear();
     for (size_t a = 0; a < s.candidates.size();)
     {

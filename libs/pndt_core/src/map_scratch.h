@@ -221,6 +221,8 @@ struct PanopticMap::Scratch
     std::vector<uint32_t> predicted_decision;            ///< matched/new map id, 0 = none
     std::vector<int32_t> pixel_predicted;                ///< per pixel its band's local index, -1 none, kUnmappedPixel
     std::vector<std::pair<uint32_t, uint32_t>> candidates;  ///< (map instance, voxel index), sorted
+    std::vector<std::vector<std::pair<uint32_t, uint32_t>>> candidate_parts;  ///< per task, sorted
+    std::vector<std::pair<uint32_t, uint32_t>> candidate_merge;  ///< merge buffer
     std::vector<std::pair<size_t, size_t>> groups;       ///< candidates of one map instance
     std::vector<uint64_t> group_area;                    ///< per group: mask area
     std::vector<uint64_t> group_inter;                   ///< per group x predicted: intersection
