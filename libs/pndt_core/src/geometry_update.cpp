@@ -353,24 +353,12 @@ void PanopticMap::updateOccupancy(const Pose& T, FrameStats& st)
     const bool parallel = threads > 1 && rays > kChunk;
     if (parallel)
     {
-        if (s.ray_share_count != threads)
-        {
-            s.ray_shares = std::make_unique<Scratch::RayShare[]>(size_t(threads));
-            s.ray_share_count = threads;
-        }
-        for (int t = 0; t < threads; ++t)
-        {
-            s.ray_shares[size_t(t)].next.store(share(rays, t, threads));
-            s.ray_shares[size_t(t)].end = share(rays, t + 1, threads);
-        }
+        s.ray_shares.reset(threads);
+        for (int t = 0; t < threads; ++t) s.ray_shares.set(t, share(rays, t, threads), share(rays, t + 1, threads));
         s.pool->runWithThread(threads, [&](int, int thread) {
-            RayWorker& w = s.ray_workers[size_t(thread)];
-            for (int k = 0; k < threads; ++k)
-            {
-                Scratch::RayShare& sh = s.ray_shares[size_t((thread + k) % threads)];
-                for (size_t i0; (i0 = sh.next.fetch_add(kChunk)) < sh.end;)
-                    castRays(origin, i0, std::min(sh.end, i0 + kChunk), w);
-            }
+            s.ray_shares.drain(thread, kChunk, [&](size_t i0, size_t i1, int) {
+                castRays(origin, i0, i1, s.ray_workers[size_t(thread)]);
+            });
         });
     }
     else
@@ -609,112 +597,125 @@ void PanopticMap::applyMisses(FrameStats& st)
 {
     Scratch& s = *scratch_;
     const float constant_miss = options_.log_odds_miss;
+    const float log_odds_min = options_.log_odds_min;
     const auto& refs = s.block_refs;
+    const int threads = s.pool ? s.threads : 1;
     s.miss_groups.clear();
+    if (s.own_groups.size() < size_t(threads)) s.own_groups.resize(size_t(threads));
+    for (int t = 0; t < threads; ++t) s.own_groups[size_t(t)].clear();
     for (size_t a = 0; a < refs.size();)
     {
         size_t b = a + 1;
         while (b < refs.size() && refs[b].brick_key == refs[a].brick_key) ++b;
+        s.own_groups[refs[a].worker].push_back(uint32_t(s.miss_groups.size()));
         s.miss_groups.push_back({a, b});
         a = b;
     }
     const size_t G = s.miss_groups.size();
-    const int threads = s.pool ? s.threads : 1;
-    const int tasks = threads > 1 ? int(std::max<size_t>(1, std::min<size_t>(G / 8, size_t(8 * threads)))) : 1;
-    if (s.miss_chunks.size() < size_t(tasks)) s.miss_chunks.resize(size_t(tasks));
+    if (s.miss_chunks.size() < size_t(threads)) s.miss_chunks.resize(size_t(threads));
+    for (int t = 0; t < threads; ++t) s.miss_chunks[size_t(t)].clear();
+    s.fresh_misses.resize(G);
 
-    // 1. Per brick, in parallel: the strongest miss of every voxel the rays met
-    //    (over all threads' blocks), and whether the brick lacks any of them.
-    const auto merge = [&](int t) {
-        MissChunk& c = s.miss_chunks[size_t(t)];
-        c.clear();
-        for (size_t g = share(G, t, tasks), ge = share(G, t + 1, tasks); g < ge; ++g)
+    // 1. Per brick, in parallel, each thread first on the bricks it walked: the
+    //    strongest miss of every voxel the rays met (over all threads' blocks),
+    //    applied at once where the voxel exists (each voxel belongs to one
+    //    brick, one task) and kept for later where it does not.
+    const auto missesOfGroup = [&](size_t g, MissChunk& c, uint32_t chunk) {
+        const auto [a, b] = s.miss_groups[g];
+        uint64_t touched[8];
+        std::memcpy(touched, s.ray_workers[refs[a].worker].blocks[refs[a].block]->touched, sizeof(touched));
+        for (size_t j = a + 1; j < b; ++j)
         {
-            const auto [a, b] = s.miss_groups[g];
-            uint64_t touched[8];
-            std::memcpy(touched, s.ray_workers[refs[a].worker].blocks[refs[a].block]->touched, sizeof(touched));
-            for (size_t j = a + 1; j < b; ++j)
+            const RayBlock& o = *s.ray_workers[refs[j].worker].blocks[refs[j].block];
+            for (int word = 0; word < 8; ++word) touched[word] |= o.touched[word];
+        }
+        const uint32_t brick = store_.brickOf(refs[a].brick_key);
+        const uint32_t* slots = brick == kNoRecord ? nullptr : store_.slotsOf(brick);
+        Scratch::FreshMisses& fresh = s.fresh_misses[g];
+        fresh.chunk = chunk;
+        fresh.begin = fresh.end = uint32_t(c.slot.size());
+        for (int word = 0; word < 8; ++word)
+            for (uint64_t m = touched[word]; m; m &= m - 1)
             {
-                const RayBlock& o = *s.ray_workers[refs[j].worker].blocks[refs[j].block];
-                for (int word = 0; word < 8; ++word) touched[word] |= o.touched[word];
-            }
-            const uint32_t brick = store_.brickOf(refs[a].brick_key);
-            const uint32_t* slots = brick == kNoRecord ? nullptr : store_.slotsOf(brick);
-            bool fresh = false;
-            for (int word = 0; word < 8; ++word)
-                for (uint64_t m = touched[word]; m; m &= m - 1)
+                const uint32_t slot = uint32_t(word * 64 + __builtin_ctzll(m));
+                float delta = 0.f;
+                bool gaussian = false;
+                for (size_t j = a; j < b; ++j)
                 {
-                    const uint32_t slot = uint32_t(word * 64 + __builtin_ctzll(m));
-                    float delta = 0.f;
-                    bool gaussian = false;
-                    for (size_t j = a; j < b; ++j)
+                    const RayWorker& w = s.ray_workers[refs[j].worker];
+                    const int32_t state = w.blocks[refs[j].block]->state[slot];
+                    if (state == RayBlock::kConstant)
+                        delta = std::min(delta, constant_miss);
+                    else if (state > 0)
                     {
-                        const RayWorker& w = s.ray_workers[refs[j].worker];
-                        const int32_t state = w.blocks[refs[j].block]->state[slot];
-                        if (state == RayBlock::kConstant)
-                            delta = std::min(delta, constant_miss);
-                        else if (state > 0)
-                        {
-                            delta = std::min(delta, w.gaussians[size_t(state - 1)].delta);
-                            gaussian = true;
-                        }
+                        delta = std::min(delta, w.gaussians[size_t(state - 1)].delta);
+                        gaussian = true;
                     }
-                    c.gaussians += gaussian;
-                    if (!(delta < 0.f)) continue;
+                }
+                c.gaussians += gaussian;
+                if (!(delta < 0.f)) continue;
+                ++c.misses;
+                const uint32_t vi = slots ? slots[slot] : kNoRecord;
+                if (vi == kNoRecord)
+                {
                     c.slot.push_back(uint16_t(slot));
                     c.delta.push_back(delta);
-                    fresh = fresh || !slots || slots[slot] == kNoRecord;
+                    continue;
                 }
-            c.end.push_back(uint32_t(c.slot.size()));
-            c.fresh.push_back(fresh);
-        }
-    };
-    if (tasks > 1)
-        s.pool->run(tasks, merge);
-    else
-        merge(0);
-
-    // 2. The new voxels, in brick-key and slot order (serial: creation order is
-    //    part of the map).
-    for (int t = 0; t < tasks; ++t)
-    {
-        const MissChunk& c = s.miss_chunks[size_t(t)];
-        const size_t g0 = share(G, t, tasks);
-        for (size_t k = 0; k < c.end.size(); ++k)
-        {
-            if (!c.fresh[k]) continue;
-            const uint32_t brick = store_.brickFor(refs[s.miss_groups[g0 + k].first].brick_key);
-            for (uint32_t e = k ? c.end[k - 1] : 0; e < c.end[k]; ++e) store_.findOrCreateInBrick(brick, c.slot[e]);
-        }
-    }
-
-    // 3. The misses, in parallel (each voxel belongs to one brick, one task).
-    const auto apply = [&](int t) {
-        const MissChunk& c = s.miss_chunks[size_t(t)];
-        const size_t g0 = share(G, t, tasks);
-        for (size_t k = 0; k < c.end.size(); ++k)
-        {
-            const uint32_t* slots = store_.slotsOf(store_.brickOf(refs[s.miss_groups[g0 + k].first].brick_key));
-            for (uint32_t e = k ? c.end[k - 1] : 0; e < c.end[k]; ++e)
-            {
-                Voxel& v = store_[slots[c.slot[e]]];
-                v.occ = std::max(options_.log_odds_min, v.occ + c.delta[e]);
+                Voxel& v = store_[vi];
+                v.occ = std::max(log_odds_min, v.occ + delta);
                 // A voxel that turned free has lost what it held (a moved chair).
                 if (v.occ < 0.f) resetVoxelContents(v);
             }
-        }
+        fresh.end = uint32_t(c.slot.size());
     };
-    if (tasks > 1)
-        s.pool->run(tasks, apply);
+    constexpr size_t kGroupChunk = 8;
+    if (threads > 1 && G >= 4 * kGroupChunk)
+    {
+        s.group_shares.reset(threads);
+        for (int t = 0; t < threads; ++t) s.group_shares.set(t, 0, s.own_groups[size_t(t)].size());
+        s.pool->runWithThread(threads, [&](int, int thread) {
+            MissChunk& c = s.miss_chunks[size_t(thread)];
+            s.group_shares.drain(thread, kGroupChunk, [&](size_t i0, size_t i1, int owner) {
+                for (size_t i = i0; i < i1; ++i) missesOfGroup(s.own_groups[size_t(owner)][i], c, uint32_t(thread));
+            });
+        });
+    }
     else
-        apply(0);
+        for (size_t g = 0; g < G; ++g) missesOfGroup(g, s.miss_chunks[0], 0);
+
+    // 2. The new voxels, in brick-key and slot order (serial: creation order is
+    //    part of the map), with their miss.
+    for (size_t g = 0; g < G; ++g)
+    {
+        const Scratch::FreshMisses& fresh = s.fresh_misses[g];
+        if (fresh.begin == fresh.end) continue;
+        const MissChunk& c = s.miss_chunks[fresh.chunk];
+        const uint32_t brick = store_.brickFor(refs[s.miss_groups[g].first].brick_key);
+        for (uint32_t e = fresh.begin; e < fresh.end; ++e)
+        {
+            Voxel& v = store_[store_.findOrCreateInBrick(brick, c.slot[e])];
+            v.occ = std::max(log_odds_min, v.occ + c.delta[e]);
+        }
+    }
 
     s.frame_bricks = G;
     s.frame_gaussians = 0;
-    for (int t = 0; t < tasks; ++t)
+    size_t fresh = 0;
+    for (int t = 0; t < threads; ++t)
     {
-        st.missed_voxels += s.miss_chunks[size_t(t)].slot.size();
+        st.missed_voxels += s.miss_chunks[size_t(t)].misses;
         s.frame_gaussians += s.miss_chunks[size_t(t)].gaussians;
+        fresh += s.miss_chunks[size_t(t)].slot.size();
+    }
+    // Which thread takes which brick changes from frame to frame: each keeps
+    // room for all of them, so that frames like this one do not allocate.
+    for (int t = 0; t < threads; ++t)
+    {
+        if (s.own_groups[size_t(t)].capacity() < G) s.own_groups[size_t(t)].reserve(G);
+        MissChunk& c = s.miss_chunks[size_t(t)];
+        if (c.slot.capacity() < fresh) c.slot.reserve(fresh);
+        if (c.delta.capacity() < fresh) c.delta.reserve(fresh);
     }
 }
 

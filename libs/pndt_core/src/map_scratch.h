@@ -127,23 +127,59 @@ struct RayWorker
     }
 };
 
-/// The merged misses of a range of bricks (one task of applyMisses).
+/// What one thread's pass over the misses leaves: the misses of voxels that
+/// do not exist yet (created afterwards, in brick order) and counts.
 struct MissChunk
 {
     std::vector<uint16_t> slot;    ///< voxel in the brick, per miss
     std::vector<float> delta;      ///< its strongest miss
-    std::vector<uint32_t> end;     ///< per brick: end of its misses
-    std::vector<uint8_t> fresh;    ///< per brick: some of its voxels do not exist yet
+    size_t misses = 0;             ///< voxels that got a miss
     size_t gaussians = 0;          ///< distinct Gaussians the rays met
 
     void clear()
     {
         slot.clear();
         delta.clear();
-        end.clear();
-        fresh.clear();
-        gaussians = 0;
+        misses = gaussians = 0;
     }
+};
+
+/// Work in one contiguous share per thread, claimed in chunks: each thread
+/// takes its own share first (the data its earlier work left in its cache),
+/// then what is left of the others'. Any thread may end up with any chunk.
+struct alignas(64) WorkShare
+{
+    std::atomic<size_t> next{0};
+    size_t end = 0;
+};
+class WorkShares
+{
+   public:
+    void reset(int threads)
+    {
+        if (count_ != threads) shares_ = std::make_unique<WorkShare[]>(size_t(threads));
+        count_ = threads;
+    }
+    void set(int t, size_t begin, size_t end)
+    {
+        shares_[size_t(t)].next.store(begin);
+        shares_[size_t(t)].end = end;
+    }
+    /// Calls fn(i0, i1, share) for chunks of at most `chunk` items until none is left.
+    template <typename Fn>
+    void drain(int thread, size_t chunk, Fn&& fn)
+    {
+        for (int k = 0; k < count_; ++k)
+        {
+            const int t = (thread + k) % count_;
+            WorkShare& sh = shares_[size_t(t)];
+            for (size_t i0; (i0 = sh.next.fetch_add(chunk)) < sh.end;) fn(i0, std::min(sh.end, i0 + chunk), t);
+        }
+    }
+
+   private:
+    std::unique_ptr<WorkShare[]> shares_;
+    int count_ = 0;
 };
 
 /// Predicted instances of a band of image rows, in order of first pixel.
@@ -204,17 +240,20 @@ struct PanopticMap::Scratch
         }
     };
     std::vector<BlockRef> block_refs;
-    /// One thread's share of the rays: the next chunk to cast and the end.
-    struct alignas(64) RayShare
-    {
-        std::atomic<size_t> next{0};
-        size_t end = 0;
-    };
-    std::unique_ptr<RayShare[]> ray_shares;
-    int ray_share_count = 0;
+    WorkShares ray_shares;                               ///< per thread: a contiguous share of the rays
     size_t frame_bricks = 0, frame_gaussians = 0;  ///< distinct bricks and Gaussians the rays met
     std::vector<std::pair<size_t, size_t>> miss_groups;  ///< block_refs of one brick
-    std::vector<MissChunk> miss_chunks;
+    /// Per thread: the miss groups whose first block is its own.
+    std::vector<std::vector<uint32_t>> own_groups;
+    WorkShares group_shares;
+    std::vector<MissChunk> miss_chunks;                  ///< per thread
+    /// Per group: the chunk and range of its misses on voxels not created yet
+    /// (begin == end: none).
+    struct FreshMisses
+    {
+        uint32_t chunk = 0, begin = 0, end = 0;
+    };
+    std::vector<FreshMisses> fresh_misses;
 
     // instance matching
     std::vector<PredictedBand> predicted_bands;          ///< [0]: the frame's predicted instances
