@@ -181,7 +181,16 @@ void PanopticMap::matchInstances(const PanopticFrame& f, const Pose& T, FrameSta
         s.group_area[size_t(gi)] = area;
     };
     if (threads > 1 && G > 1)
-        s.pool->runWithThread(int(G), mask);
+    {
+        // Largest masks first, so that no thread is left with a big one at the end.
+        s.mask_order.resize(G);
+        for (size_t gi = 0; gi < G; ++gi) s.mask_order[gi] = uint32_t(gi);
+        const auto size = [&](uint32_t gi) { return s.groups[gi].second - s.groups[gi].first; };
+        std::sort(s.mask_order.begin(), s.mask_order.end(), [&](uint32_t a, uint32_t b) {
+            return size(a) != size(b) ? size(a) > size(b) : a < b;
+        });
+        s.pool->runWithThread(int(G), [&](int task, int thread) { mask(int(s.mask_order[size_t(task)]), thread); });
+    }
     else
         for (size_t gi = 0; gi < G; ++gi) mask(int(gi), 0);
 

@@ -266,6 +266,7 @@ struct PanopticMap::Scratch
     std::vector<uint64_t> group_area;                    ///< per group: mask area
     std::vector<uint64_t> group_inter;                   ///< per group x predicted: intersection
     std::vector<MaskWorker> mask_workers;                ///< per thread
+    std::vector<uint32_t> mask_order;                    ///< groups, largest first
     std::vector<double> iou;                             ///< per group x predicted
     std::vector<int32_t> assignment;                     ///< per predicted: group, kAssignNew/Ambiguous
     std::vector<float> class_mass;                       ///< per class, one group at a time
