@@ -289,22 +289,36 @@ void PanopticMap::updateShapes(FrameStats& st)
     Scratch& s = *scratch_;
     const uint32_t n = s.hitCount();
     HitSlot* hits = s.hits();
-    for (uint32_t i = 0; i < n; ++i)
-    {
-        Voxel& v = store_[hits[i].voxel];
-        if (v.surface == kNoRecord)
-        {
-            v.surface = uint32_t(surfaces_.size());
-            surfaces_.emplace_back();
-        }
-    }
+    const int tasks = (s.pool && n >= 256) ? 4 * s.threads : 1;
+    // Voxels hit for the first time get a surface record, numbered in slot
+    // order as one loop would: counted per task, then each task numbers its own.
+    s.new_surfaces.assign(size_t(tasks) + 1, 0);
+    const auto count = [&](int t) {
+        uint32_t k = 0;
+        for (size_t i = share(n, t, tasks), e = share(n, t + 1, tasks); i < e; ++i)
+            k += store_[hits[i].voxel].surface == kNoRecord;
+        s.new_surfaces[size_t(t) + 1] = k;
+    };
+    if (tasks > 1)
+        s.pool->run(tasks, count);
+    else
+        count(0);
+    for (int t = 0; t < tasks; ++t) s.new_surfaces[size_t(t) + 1] += s.new_surfaces[size_t(t)];
+    const uint32_t first_new = uint32_t(surfaces_.size());
+    SurfaceRecord* fresh = surfaces_.appendUnwritten(s.new_surfaces[size_t(tasks)]);
     // One hit log-odds per voxel and frame; all of its samples into the shape.
     const double q = grid_.voxelSize() / kSampleScale;
-    const auto task = [&](int t, int tasks) {
+    const auto task = [&](int t) {
+        uint32_t next_new = s.new_surfaces[size_t(t)];
         for (size_t i = share(n, t, tasks), e = share(n, t + 1, tasks); i < e; ++i)
         {
             const HitSlot& h = hits[i];
             Voxel& v = store_[h.voxel];
+            if (v.surface == kNoRecord)
+            {
+                new (fresh + next_new) SurfaceRecord();
+                v.surface = first_new + next_new++;
+            }
             const Eigen::Vector3d corner = grid_.minCorner(VoxelKey::unpack(h.key));
             const double c = h.count;
             // Truncation put each sample at the low edge of its bin: + 0.5.
@@ -327,11 +341,10 @@ void PanopticMap::updateShapes(FrameStats& st)
             v.occ = std::min(options_.log_odds_max, v.occ + options_.log_odds_hit);
         }
     };
-    const int tasks = (s.pool && n >= 256) ? 4 * s.threads : 1;
     if (tasks > 1)
-        s.pool->run(tasks, [&](int t) { task(t, tasks); });
+        s.pool->run(tasks, task);
     else
-        task(0, 1);
+        task(0);
     (void)st;
 }
 

@@ -227,6 +227,7 @@ struct PanopticMap::Scratch
     int band_count = 1;                   ///< bands used by this frame (projection and predicted instances)
     std::vector<uint64_t> hit_bits;       ///< per voxel one bit: hit in this frame (until its rays are cast)
     bool hit_bits_set = false;            ///< set and not cleared yet (a frame that threw in between)
+    std::vector<uint32_t> new_surfaces;   ///< per shape task: first of its new surface records (prefix sums)
 
     // free space
     std::vector<RayWorker> ray_workers;

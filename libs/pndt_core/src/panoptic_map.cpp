@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -148,9 +149,31 @@ void PanopticMap::validateFrame(const PanopticFrame& f) const
         throw InputError(fmt::format("{}: semantic labels without semantic scores", where()));
     if (f.hasInstances() && (f.panoptic_score.empty() || !f.hasLabels()))
         throw InputError(fmt::format("{}: instance ids need panoptic scores and semantic labels", where()));
-    // One branch-free pass for the common case, the offending pixel only on error.
+    // One branch-free pass for the common case (in parallel), the offending
+    // pixel only on error.
+    const uint16_t* labels = f.semantic.data.data();
+    const size_t n = f.semantic.data.size();
+    const auto maxClass = [&](size_t i0, size_t i1) {
+        uint16_t m = 0;
+        for (size_t i = i0; i < i1; ++i) m = std::max(m, labels[i]);
+        return m;
+    };
     uint16_t max_class = 0;
-    for (const uint16_t L : f.semantic.data) max_class = std::max(max_class, L);
+    WorkerPool* pool = scratch_->pool.get();
+    if (pool && n >= (size_t(1) << 16))
+    {
+        const int tasks = 4 * pool->threads();
+        std::atomic<uint16_t> shared_max{0};
+        pool->run(tasks, [&](int t) {
+            const uint16_t m = maxClass(n * size_t(t) / size_t(tasks), n * size_t(t + 1) / size_t(tasks));
+            for (uint16_t cur = shared_max.load(); m > cur && !shared_max.compare_exchange_weak(cur, m);)
+            {
+            }
+        });
+        max_class = shared_max.load();
+    }
+    else
+        max_class = maxClass(0, n);
     if (max_class < options_.classes.size()) return;
     for (size_t i = 0; i < f.semantic.data.size(); ++i)
         if (!options_.classes.contains(f.semantic.data[i]))
@@ -166,6 +189,7 @@ FrameStats PanopticMap::integrate(const PanopticFrame& frame, const Pose& T_worl
     const auto seconds = [](Clock::time_point a, Clock::time_point b) {
         return std::chrono::duration<double>(b - a).count();
     };
+    scratch();  // its workers check the frame too
     validateFrame(frame);
     if (!T_world_cam.matrix().allFinite())
         throw InputError(fmt::format("{}: camera pose is not finite", frame.source.empty() ? "frame" : frame.source));

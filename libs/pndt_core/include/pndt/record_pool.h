@@ -102,6 +102,16 @@ class RecordPool
         if (size_ == capacity_) reserve(size_ + 1);
         data_[size_++] = v;
     }
+    /// Appends `k` records for the caller to write (from several threads, say:
+    /// the first write to a new page is then not all on one thread); returns
+    /// the first of them.
+    T* appendUnwritten(size_t k)
+    {
+        reserve(size_ + k);
+        T* first = data_ + size_;
+        size_ += k;
+        return first;
+    }
     /// Grows with copies of `v` or shrinks (pages stay mapped).
     void resize(size_t n, const T& v = T())
     {
