@@ -189,7 +189,8 @@ FrameStats PanopticMap::integrate(const PanopticFrame& frame, const Pose& T_worl
     const auto seconds = [](Clock::time_point a, Clock::time_point b) {
         return std::chrono::duration<double>(b - a).count();
     };
-    scratch();  // its workers check the frame too
+    // Workers stay awake through the frame's stages (they check the frame too).
+    const WorkerPool::Burst burst(scratch().pool.get());
     validateFrame(frame);
     if (!T_world_cam.matrix().allFinite())
         throw InputError(fmt::format("{}: camera pose is not finite", frame.source.empty() ? "frame" : frame.source));

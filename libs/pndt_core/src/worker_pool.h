@@ -4,9 +4,10 @@
 // gives each task its own output and merges the outputs in a fixed order,
 // which is what keeps the map identical for any thread count.
 //
-// A frame has about eight parallel stages with short serial parts between
-// them, so between jobs a worker spins for a short while (kSpin) before it
-// sleeps: waking a sleeping thread costs tens of microseconds per stage.
+// A frame has about a dozen parallel stages with short serial parts between
+// them, and waking a sleeping thread costs tens of microseconds or more (an
+// idle virtual CPU is halted): during a frame (a Burst) idle workers spin,
+// between frames they spin for a short while (kSpin) and then sleep.
 #pragma once
 
 #include <atomic>
@@ -56,6 +57,26 @@ class WorkerPool
 
     int threads() const { return int(workers_.size()) + 1; }
 
+    /// While a Burst lives (a frame's stages), idle workers spin instead of
+    /// sleeping, up to kBurstSpin at a time. `pool` may be null.
+    class Burst
+    {
+       public:
+        explicit Burst(WorkerPool* pool) : pool_(pool)
+        {
+            if (pool_) pool_->bursts_.fetch_add(1);
+        }
+        ~Burst()
+        {
+            if (pool_) pool_->bursts_.fetch_sub(1);
+        }
+        Burst(const Burst&) = delete;
+        Burst& operator=(const Burst&) = delete;
+
+       private:
+        WorkerPool* pool_;
+    };
+
     /// Calls fn(task) for every task in [0, n); `fn` may run on any thread.
     /// Exceptions are caught and the first is rethrown here.
     template <typename Fn>
@@ -102,6 +123,9 @@ class WorkerPool
 
    private:
     static constexpr std::chrono::microseconds kSpin{50};
+    /// Longest spin during a burst: serial parts of a frame are shorter; a
+    /// long one (a caller between stages) ends in sleep.
+    static constexpr std::chrono::microseconds kBurstSpin{20000};
 
     struct Job
     {
@@ -164,9 +188,15 @@ class WorkerPool
         uint64_t seen = 0;
         for (;;)
         {
-            // A new job: spin a little, then sleep until one comes.
-            const auto until = std::chrono::steady_clock::now() + kSpin;
-            while (generation_.load() == seen && !stop_.load() && std::chrono::steady_clock::now() < until) pause();
+            // A new job: spin (a little, or during a burst), then sleep until one comes.
+            const auto start = std::chrono::steady_clock::now();
+            for (;;)
+            {
+                if (generation_.load() != seen || stop_.load()) break;
+                const auto spun = std::chrono::steady_clock::now() - start;
+                if (spun >= kBurstSpin || (spun >= kSpin && bursts_.load() == 0)) break;
+                pause();
+            }
             if (generation_.load() == seen && !stop_.load())
             {
                 std::unique_lock<std::mutex> lock(mutex_);
@@ -188,6 +218,7 @@ class WorkerPool
     std::atomic<Job*> job_{nullptr};
     std::atomic<uint64_t> generation_{0};
     std::atomic<int> busy_{0};
+    std::atomic<int> bursts_{0};
     std::atomic<bool> stop_{false};
 };
 
