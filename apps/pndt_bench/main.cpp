@@ -202,12 +202,34 @@ struct Measured
     double fps(size_t frames) const { return double(frames) / median().seconds; }
 };
 
+void sortRuns(Measured& m)
+{
+    std::sort(m.runs.begin(), m.runs.end(), [](const PanopticRun& a, const PanopticRun& c) { return a.seconds < c.seconds; });
+}
+
 Measured measurePanoptic(const bench::BenchFrames& b, const MapOptions& o, int repeat)
 {
     Measured m;
     for (int i = 0; i < repeat; ++i) m.runs.push_back(runPanoptic(b, o));
-    std::sort(m.runs.begin(), m.runs.end(), [](const PanopticRun& a, const PanopticRun& c) { return a.seconds < c.seconds; });
+    sortRuns(m);
     return m;
+}
+
+/// One measurement per thread count, their runs interleaved (1, 2, 1, 2, ...):
+/// on a shared machine both then see the same neighbours, which matters for
+/// their ratio more than for either.
+std::vector<Measured> measureThreadCounts(const bench::BenchFrames& b, MapOptions o, const std::vector<int>& threads,
+                                          int repeat)
+{
+    std::vector<Measured> ms(threads.size());
+    for (int i = 0; i < repeat; ++i)
+        for (size_t k = 0; k < threads.size(); ++k)
+        {
+            o.threads = threads[k];
+            ms[k].runs.push_back(runPanoptic(b, o));
+        }
+    for (Measured& m : ms) sortRuns(m);
+    return ms;
 }
 
 struct OctoRun
@@ -306,7 +328,7 @@ int main(int argc, char** argv)
     bool no_octomap_default = false, no_mrpt = false, only_panoptic = false, ablations = false, pin = false;
     std::string markdown, stat = "median";
     app.add_option("-n,--frames", frames, "frames per run")->capture_default_str();
-    app.add_option("--repeat", repeat, "runs per measurement (the median is reported)")->capture_default_str();
+    app.add_option("--repeat", repeat, "runs per measurement (the median is reported; the thread counts' runs alternate)")->capture_default_str();
     app.add_option("--threads", threads, "thread counts for PanopticNDT (0 = all cores); the first is the reference")
         ->capture_default_str();
     app.add_option("--octomap-default-frames", octomap_frames, "frames for OctoMap's slow default insert")
@@ -373,10 +395,11 @@ int main(int argc, char** argv)
             o.max_range = max_range;
             o.pin_threads = pin;
             uint64_t hash1 = 0;
-            for (int t : threads)
+            std::vector<Measured> per_count = measureThreadCounts(b, o, threads, repeat);
+            for (size_t k = 0; k < threads.size(); ++k)
             {
-                o.threads = t;
-                Measured m = measurePanoptic(b, o, repeat);
+                o.threads = threads[k];
+                Measured& m = per_count[k];
                 const PanopticRun& r = m.median();
                 const FrameStats& st = r.st;
                 const double ms = 1e3 / n;
