@@ -12,6 +12,7 @@
 #include <pndt/free_space.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 
@@ -77,26 +78,22 @@ void PanopticMap::projectPixels(const PanopticFrame& f, const Pose& T, FrameStat
     s.band_count = B;
     for (int b = 0; b < B; ++b) s.bands[size_t(b)].clear();
 
-    if (s.pool)
-        s.pool->run(B, [&](int b) { projectBand(f, T, b, B); });
-    else
-        projectBand(f, T, 0, 1);
-
-    // Merge the bands into band 0 in band order: frame slots stay in order of
-    // their first pixel, as with a single band. Pixels keep their band's local
-    // slot and readers translate with the band's remap (identity for band 0):
-    // that saves a pass over the image.
-    // Each band is also the home of the voxels it saw first (a contiguous range
-    // of slots), and remembers how far down the image they reach.
+    // The bands are merged into band 0 in band order: frame slots stay in order
+    // of their first pixel, as with a single band. Pixels keep their band's
+    // local slot and readers translate with the band's remap (identity for
+    // band 0): that saves a pass over the image. Each band is also the home of
+    // the voxels it saw first (a contiguous range of slots).
     ProjectionBand& g = s.bands[0];
-    g.home_begin = 0;
-    g.home_end = g.count;
-    g.remap.resize(g.count);
-    for (uint32_t j = 0; j < g.count; ++j) g.remap[j] = j;
-    for (int b = 1; b < B; ++b)
-    {
+    const auto mergeBand = [&](int b) {
         ProjectionBand& band = s.bands[size_t(b)];
         band.remap.resize(band.count);
+        if (b == 0)
+        {
+            g.home_begin = 0;
+            g.home_end = g.count;
+            for (uint32_t j = 0; j < g.count; ++j) g.remap[j] = j;
+            return;
+        }
         band.home_begin = g.count;
         for (uint32_t j = 0; j < band.count; ++j)
         {
@@ -116,7 +113,45 @@ void PanopticMap::projectPixels(const PanopticFrame& f, const Pose& T, FrameStat
         }
         band.home_end = g.count;
         g.points.insert(g.points.end(), band.points.begin(), band.points.end());
+    };
+    if (s.pool)
+    {
+        // A thread that finishes a band merges every band that is ready in
+        // order, while the others still project: the merge is off the
+        // critical path but for the last band. One merger at a time; a thread
+        // that finds the merge taken leaves its band to the merger, who looks
+        // again after letting go.
+        s.merged_bands = 0;
+        s.band_done.reset(B);
+        const auto mergeReady = [&] {
+            for (;;)
+            {
+                std::unique_lock<std::mutex> lock(s.band_merge, std::try_to_lock);
+                if (!lock.owns_lock()) return;
+                while (s.merged_bands < B && s.band_done.isSet(s.merged_bands)) mergeBand(s.merged_bands++);
+                const int next = s.merged_bands;
+                lock.unlock();
+                // Pairs with the fence after set(): either this sees the band
+                // that thread finished, or that thread sees the lock free.
+                std::atomic_thread_fence(std::memory_order_seq_cst);
+                if (next >= B || !s.band_done.isSet(next)) return;
+            }
+        };
+        s.pool->run(B, [&](int b) {
+            projectBand(f, T, b, B);
+            s.band_done.set(b);
+            std::atomic_thread_fence(std::memory_order_seq_cst);
+            mergeReady();
+        });
+        while (s.merged_bands < B) mergeBand(s.merged_bands++);  // none left: the last finisher merged them
     }
+    else
+    {
+        projectBand(f, T, 0, 1);
+        mergeBand(0);
+    }
+
+    // How far down the image each band's voxels reach (once all are merged).
     for (int b = 0; b < B; ++b)
     {
         ProjectionBand& band = s.bands[size_t(b)];

@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "projection_kernels.h"
@@ -17,6 +18,28 @@ namespace pndt
 {
 /// pixel_predicted of a pixel without valid depth.
 constexpr int32_t kUnmappedPixel = -2;
+
+/// One flag per band, set by the thread that finished it (release) and read by
+/// the band merger (acquire).
+class BandFlags
+{
+   public:
+    void reset(int n)
+    {
+        if (n > count_)
+        {
+            flags_ = std::make_unique<std::atomic<bool>[]>(size_t(n));
+            count_ = n;
+        }
+        for (int i = 0; i < n; ++i) flags_[size_t(i)].store(false, std::memory_order_relaxed);
+    }
+    void set(int i) { flags_[size_t(i)].store(true, std::memory_order_release); }
+    bool isSet(int i) const { return flags_[size_t(i)].load(std::memory_order_acquire); }
+
+   private:
+    std::unique_ptr<std::atomic<bool>[]> flags_;
+    int count_ = 0;
+};
 
 /// All samples of this frame in one endpoint voxel.
 struct HitSlot
@@ -225,6 +248,9 @@ struct PanopticMap::Scratch
     std::vector<int32_t> pixel_slot;      ///< per pixel: its band's local hit slot (remap: frame slot), -1 not mapped
     std::vector<ProjectionBand> bands;    ///< bands[0] holds the merged frame result
     int band_count = 1;                   ///< bands used by this frame (projection and predicted instances)
+    BandFlags band_done;                  ///< projected, not merged yet
+    int merged_bands = 0;                 ///< bands [0, merged_bands) merged (under band_merge)
+    std::mutex band_merge;
     std::vector<uint64_t> hit_bits;       ///< per voxel one bit: hit in this frame (until its rays are cast)
     bool hit_bits_set = false;            ///< set and not cleared yet (a frame that threw in between)
     std::vector<uint32_t> new_surfaces;   ///< per shape task: first of its new surface records (prefix sums)
