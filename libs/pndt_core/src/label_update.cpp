@@ -42,35 +42,56 @@ void PanopticMap::updateHistograms(const PanopticFrame& f, FrameStats& st)
     const HitSlot* hits = s.hits();
     const int tasks = s.band_count;  // one per projection band: its home voxels
     if (s.hist_workers.size() < size_t(tasks)) s.hist_workers.resize(size_t(tasks));
-    s.new_label.assign(nh, kNoRecord);
-    s.new_instance.assign(nh, kNoRecord);
-    s.slot_records.assign(nh, SlotRecords{});
+    // Sized here, set by each task for its own voxels.
+    if (s.new_label.size() < nh) s.new_label.resize(nh);
+    if (s.new_instance.size() < nh) s.new_instance.resize(nh);
+    if (s.slot_records.size() < nh) s.slot_records.resize(nh);
 
     if (tasks > 1)
         s.pool->run(tasks, [&](int t) { histogramTask(f, t); });
     else
         histogramTask(f, 0);
 
-    // The new records join the pools in slot order.
-    for (uint32_t h = 0; h < nh; ++h)
+    // The new records join the pools in slot order: a task's voxels are a
+    // contiguous range of slots, so its records follow those of the tasks
+    // before it, and each task numbers and copies its own.
+    s.new_record_base.resize(2 * (size_t(tasks) + 1));
+    uint32_t* label_base = &s.new_record_base[0];
+    uint32_t* instance_base = &s.new_record_base[size_t(tasks) + 1];
+    label_base[0] = 0;
+    instance_base[0] = 0;
+    for (int t = 0; t < tasks; ++t)
     {
-        const uint32_t nl = s.new_label[h], ni = s.new_instance[h];
-        if (nl == kNoRecord && ni == kNoRecord) continue;
-        int t = 0;
-        while (h >= s.bands[size_t(t)].home_end) ++t;
-        HistogramWorker& w = s.hist_workers[size_t(t)];
-        SurfaceRecord& sr = surfaces_[store_[hits[h].voxel].surface];
-        if (nl != kNoRecord)
-        {
-            sr.labels = uint32_t(labels_.size());
-            labels_.push_back(w.labels[nl]);
-        }
-        if (ni != kNoRecord)
-        {
-            labels_[sr.labels].instances = uint32_t(instance_records_.size());
-            instance_records_.push_back(w.instances[ni]);
-        }
+        label_base[t + 1] = label_base[t] + uint32_t(s.hist_workers[size_t(t)].labels.size());
+        instance_base[t + 1] = instance_base[t] + uint32_t(s.hist_workers[size_t(t)].instances.size());
     }
+    const uint32_t first_label = uint32_t(labels_.size()), first_instance = uint32_t(instance_records_.size());
+    labels_.appendUnwritten(label_base[tasks]);
+    instance_records_.appendUnwritten(instance_base[tasks]);
+    const auto join = [&](int t) {
+        const HistogramWorker& w = s.hist_workers[size_t(t)];
+        uint32_t next_label = first_label + label_base[t], next_instance = first_instance + instance_base[t];
+        for (uint32_t h = s.bands[size_t(t)].home_begin; h < s.bands[size_t(t)].home_end; ++h)
+        {
+            const uint32_t nl = s.new_label[h], ni = s.new_instance[h];
+            if (nl == kNoRecord && ni == kNoRecord) continue;
+            SurfaceRecord& sr = surfaces_[store_[hits[h].voxel].surface];
+            if (nl != kNoRecord)
+            {
+                sr.labels = next_label++;
+                labels_[sr.labels] = w.labels[nl];
+            }
+            if (ni != kNoRecord)
+            {
+                labels_[sr.labels].instances = next_instance;
+                instance_records_[next_instance++] = w.instances[ni];
+            }
+        }
+    };
+    if (tasks > 1)
+        s.pool->run(tasks, join);
+    else
+        join(0);
     for (int t = 0; t < tasks; ++t)
     {
         st.semantic_updates += s.hist_workers[size_t(t)].semantic_updates;
@@ -86,6 +107,9 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
     const uint32_t home_begin = band.home_begin, home_end = band.home_end;
     w.labels.clear();
     w.instances.clear();
+    std::fill(s.new_label.begin() + home_begin, s.new_label.begin() + home_end, kNoRecord);
+    std::fill(s.new_instance.begin() + home_begin, s.new_instance.begin() + home_end, kNoRecord);
+    std::fill(s.slot_records.begin() + home_begin, s.slot_records.begin() + home_end, SlotRecords{});
     // No reallocation during the pass: records are held by pointer.
     if (w.labels.capacity() < home_end - home_begin) w.labels.reserve(home_end - home_begin);
     if (w.instances.capacity() < home_end - home_begin) w.instances.reserve(home_end - home_begin);

@@ -318,6 +318,7 @@ struct PanopticMap::Scratch
     std::vector<uint32_t> new_instance;
     std::vector<SlotRecords> slot_records;
     std::vector<HistogramWorker> hist_workers;  ///< per band
+    std::vector<uint32_t> new_record_base;      ///< per band: first new label / instance record (prefix sums)
 
     /// The band that image row r (of H) belongs to: rows [H*b/B, H*(b+1)/B).
     int bandOfRow(int r, int H) const { return int((int64_t(band_count) * (r + 1) - 1) / H); }
