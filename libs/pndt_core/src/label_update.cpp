@@ -14,6 +14,7 @@
 // place once at the end of the run, which is where per-pixel sorting would have
 // left it (the other entries do not change during the run).
 #include <algorithm>
+#include <type_traits>
 
 #include "map_scratch.h"
 
@@ -179,122 +180,130 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
     const uint32_t* slot_of = nullptr;
     const int32_t* predicted_of = nullptr;
     size_t band_end = i_begin;
-    for (size_t i = i_begin; i < i_end; ++i)
-    {
-        if (i == band_end)
+    // One band (one thread): no translation, in a loop of its own.
+    const auto walk = [&](auto bands) {
+        constexpr bool kTranslate = decltype(bands)::value;
+        for (size_t i = i_begin; i < i_end; ++i)
         {
-            const int b = s.bandOfRow(int(i / size_t(W)), H);
-            band_end = std::min(i_end, size_t(H * (b + 1) / s.band_count) * W);
-            slot_of = s.bands[size_t(b)].remap.data();
-            if (instances) predicted_of = s.predicted_bands[size_t(b)].remap.data();
-        }
-        if (slots[i] < 0) continue;
-        const int32_t slot = int32_t(slot_of[slots[i]]);
-        if (slot != cur)  // neighbouring pixels mostly share a voxel
-        {
-            if (uint32_t(slot) < home_begin || uint32_t(slot) >= home_end) continue;  // another band's voxel
-            flushSemantic();
-            flushInstance();
-            cur = slot;
-            cur_records = &slot_records[slot];
-            if (!cur_records->known)
+            if (kTranslate && i == band_end)
             {
-                // First pixel of this voxel in this frame: find its records.
-                cur_records->known = true;
-                const uint32_t li = surfaces_[store_[hits[slot].voxel].surface].labels;
-                cur_records->label = li != kNoRecord ? &labels_[li] : nullptr;
-                cur_records->instance = cur_records->label && cur_records->label->instances != kNoRecord
-                                            ? &instance_records_[cur_records->label->instances]
-                                            : nullptr;
+                const int b = s.bandOfRow(int(i / size_t(W)), H);
+                band_end = std::min(i_end, size_t(H * (b + 1) / s.band_count) * W);
+                slot_of = s.bands[size_t(b)].remap.data();
+                if (instances) predicted_of = s.predicted_bands[size_t(b)].remap.data();
             }
-            rec = cur_records->label;
-            inst = cur_records->instance;
-        }
-
-        if (instances)
-        {
-            const int32_t p = predicted[i];
-            const uint32_t z = split_stamp && split_stamp[i] == split_now ? split_id[i]
-                               : p >= 0                                   ? decision[size_t(predicted_of[p])]
-                                                                          : 0;
-            const float sp = pan_score[i];
-            // Scores near the threshold make "is it an update" unpredictable:
-            // the common cases take no branch (adding +0 leaves a weight as it is).
-            const bool take = (z != 0) & (sp > theta_z);
-            if (!(take & (z != run_z)))
+            if (slots[i] < 0) continue;
+            const int32_t slot = kTranslate ? int32_t(slot_of[slots[i]]) : slots[i];
+            if (slot != cur)  // neighbouring pixels mostly share a voxel
             {
-                const float add = take ? sp : 0.f;
-                run_zw += add;
-                run_nz += take;
-                instance_updates += take;
-            }
-            else
-            {
-                ++instance_updates;
-                {
-                    flushInstance();
-                    labelRecord();  // the label record links the instance record
-                    if (!inst)
-                    {
-                        s.new_instance[size_t(cur)] = uint32_t(w.instances.size());
-                        w.instances.emplace_back();
-                        inst = &w.instances.back();
-                        cur_records->instance = inst;
-                    }
-                    // Continue as a run on z's entry; a new id goes through add().
-                    run_zi = inst->hist.indexOf(z);
-                    if (run_zi >= 0)
-                    {
-                        run_zw = inst->hist.weights[run_zi] + sp;
-                        run_nz = 1;
-                    }
-                    else
-                    {
-                        inst->hist.add(z, sp);
-                        ++inst->n_z;
-                        run_zi = inst->hist.indexOf(z);
-                        run_zw = inst->hist.weights[run_zi];
-                        run_nz = 0;
-                    }
-                    run_z = z;
-                }
-            }
-        }
-
-        const uint16_t L = sem[i];
-        const float sl = sem_score[i];
-        const bool take = (L != 0) & (sl > theta_l);
-        if (!(take & (L != run_l)))
-        {
-            const float add = take ? sl : 0.f;
-            run_lw += add;
-            run_nl += take;
-            semantic_updates += take;
-        }
-        else
-        {
-            ++semantic_updates;
-            {
+                if (uint32_t(slot) < home_begin || uint32_t(slot) >= home_end) continue;  // another band's voxel
                 flushSemantic();
-                LabelRecord& r = labelRecord();
-                run_li = r.semantic.indexOf(uint8_t(L));
-                if (run_li >= 0)
+                flushInstance();
+                cur = slot;
+                cur_records = &slot_records[slot];
+                if (!cur_records->known)
                 {
-                    run_lw = r.semantic.weights[run_li] + sl;
-                    run_nl = 1;
+                    // First pixel of this voxel in this frame: find its records.
+                    cur_records->known = true;
+                    const uint32_t li = surfaces_[store_[hits[slot].voxel].surface].labels;
+                    cur_records->label = li != kNoRecord ? &labels_[li] : nullptr;
+                    cur_records->instance = cur_records->label && cur_records->label->instances != kNoRecord
+                                                ? &instance_records_[cur_records->label->instances]
+                                                : nullptr;
+                }
+                rec = cur_records->label;
+                inst = cur_records->instance;
+            }
+
+            if (instances)
+            {
+                const int32_t p = predicted[i];
+                const uint32_t z = split_stamp && split_stamp[i] == split_now ? split_id[i]
+                                   : p >= 0 ? decision[size_t(kTranslate ? predicted_of[p] : p)]
+                                            : 0;
+                const float sp = pan_score[i];
+                // Scores near the threshold make "is it an update" unpredictable:
+                // the common cases take no branch (adding +0 leaves a weight as it is).
+                const bool take = (z != 0) & (sp > theta_z);
+                if (!(take & (z != run_z)))
+                {
+                    const float add = take ? sp : 0.f;
+                    run_zw += add;
+                    run_nz += take;
+                    instance_updates += take;
                 }
                 else
                 {
-                    r.semantic.add(uint8_t(L), sl);
-                    ++r.n_l;
-                    run_li = r.semantic.indexOf(uint8_t(L));
-                    run_lw = r.semantic.weights[run_li];
-                    run_nl = 0;
+                    ++instance_updates;
+                    {
+                        flushInstance();
+                        labelRecord();  // the label record links the instance record
+                        if (!inst)
+                        {
+                            s.new_instance[size_t(cur)] = uint32_t(w.instances.size());
+                            w.instances.emplace_back();
+                            inst = &w.instances.back();
+                            cur_records->instance = inst;
+                        }
+                        // Continue as a run on z's entry; a new id goes through add().
+                        run_zi = inst->hist.indexOf(z);
+                        if (run_zi >= 0)
+                        {
+                            run_zw = inst->hist.weights[run_zi] + sp;
+                            run_nz = 1;
+                        }
+                        else
+                        {
+                            inst->hist.add(z, sp);
+                            ++inst->n_z;
+                            run_zi = inst->hist.indexOf(z);
+                            run_zw = inst->hist.weights[run_zi];
+                            run_nz = 0;
+                        }
+                        run_z = z;
+                    }
                 }
-                run_l = uint8_t(L);
+            }
+
+            const uint16_t L = sem[i];
+            const float sl = sem_score[i];
+            const bool take = (L != 0) & (sl > theta_l);
+            if (!(take & (L != run_l)))
+            {
+                const float add = take ? sl : 0.f;
+                run_lw += add;
+                run_nl += take;
+                semantic_updates += take;
+            }
+            else
+            {
+                ++semantic_updates;
+                {
+                    flushSemantic();
+                    LabelRecord& r = labelRecord();
+                    run_li = r.semantic.indexOf(uint8_t(L));
+                    if (run_li >= 0)
+                    {
+                        run_lw = r.semantic.weights[run_li] + sl;
+                        run_nl = 1;
+                    }
+                    else
+                    {
+                        r.semantic.add(uint8_t(L), sl);
+                        ++r.n_l;
+                        run_li = r.semantic.indexOf(uint8_t(L));
+                        run_lw = r.semantic.weights[run_li];
+                        run_nl = 0;
+                    }
+                    run_l = uint8_t(L);
+                }
             }
         }
-    }
+    };
+    if (s.band_count > 1)
+        walk(std::true_type{});
+    else
+        walk(std::false_type{});
     flushSemantic();
     flushInstance();
     w.semantic_updates = semantic_updates;
