@@ -22,6 +22,27 @@ namespace pndt
 {
 namespace
 {
+/// Starts a run of updates of `id` with its first score: on id's entry (the
+/// run holds its weight plus the score, one update left for the flush to
+/// count), or as a new entry through add() (which may replace the smallest;
+/// the update is counted at once).
+template <typename H, typename Id>
+void startRun(H& h, Id id, float score, uint32_t& updates, int& run_i, float& run_w, uint32_t& run_n)
+{
+    run_i = h.indexOf(id);
+    if (run_i >= 0)
+    {
+        run_w = h.weights[run_i] + score;
+        run_n = 1;
+        return;
+    }
+    h.add(id, score);
+    ++updates;
+    run_i = h.indexOf(id);
+    run_w = h.weights[run_i];
+    run_n = 0;
+}
+
 /// Restores descending order after entry i grew (SparseHistogram::add's rule:
 /// ties keep the older entry first).
 template <typename H>
@@ -245,21 +266,7 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
                             inst = &w.instances.back();
                             cur_records->instance = inst;
                         }
-                        // Continue as a run on z's entry; a new id goes through add().
-                        run_zi = inst->hist.indexOf(z);
-                        if (run_zi >= 0)
-                        {
-                            run_zw = inst->hist.weights[run_zi] + sp;
-                            run_nz = 1;
-                        }
-                        else
-                        {
-                            inst->hist.add(z, sp);
-                            ++inst->n_z;
-                            run_zi = inst->hist.indexOf(z);
-                            run_zw = inst->hist.weights[run_zi];
-                            run_nz = 0;
-                        }
+                        startRun(inst->hist, z, sp, inst->n_z, run_zi, run_zw, run_nz);
                         run_z = z;
                     }
                 }
@@ -281,20 +288,7 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
                 {
                     flushSemantic();
                     LabelRecord& r = labelRecord();
-                    run_li = r.semantic.indexOf(uint8_t(L));
-                    if (run_li >= 0)
-                    {
-                        run_lw = r.semantic.weights[run_li] + sl;
-                        run_nl = 1;
-                    }
-                    else
-                    {
-                        r.semantic.add(uint8_t(L), sl);
-                        ++r.n_l;
-                        run_li = r.semantic.indexOf(uint8_t(L));
-                        run_lw = r.semantic.weights[run_li];
-                        run_nl = 0;
-                    }
+                    startRun(r.semantic, uint8_t(L), sl, r.n_l, run_li, run_lw, run_nl);
                     run_l = uint8_t(L);
                 }
             }
