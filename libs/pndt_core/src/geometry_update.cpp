@@ -5,10 +5,10 @@
 // thread), each with its own voxel table; the tables are merged in band order,
 // which gives the frame's voxels in order of their first pixel whatever the
 // number of bands, and the sample sums are integers, so their order does not
-// matter. Rays are cast in small chunks by whichever thread is free; each
-// thread records the strongest miss per voxel in its own brick blocks; the
-// minimum over the threads is again order-free, and new voxels are created in
-// brick order.
+// matter. Rays are cast in small chunks, each thread first from its own share
+// of them; each thread records the strongest miss per voxel in its own brick
+// blocks; the minimum over the threads is again order-free, and new voxels are
+// created in brick order.
 #include <pndt/free_space.h>
 
 #include <algorithm>
