@@ -43,6 +43,15 @@ void startRun(H& h, Id id, float score, uint32_t& updates, int& run_i, float& ru
     run_n = 0;
 }
 
+/// A pixel within the current run (or without an update): its score is added
+/// if it is an update, +0 otherwise, without a branch.
+inline void continueRun(bool take, float score, float& run_w, uint32_t& run_n, uint64_t& updates)
+{
+    run_w += take ? score : 0.f;
+    run_n += take;
+    updates += take;
+}
+
 /// Restores descending order after entry i grew (SparseHistogram::add's rule:
 /// ties keep the older entry first).
 template <typename H>
@@ -247,12 +256,7 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
                 // the common cases take no branch (adding +0 leaves a weight as it is).
                 const bool take = (z != 0) & (sp > theta_z);
                 if (!(take & (z != run_z)))
-                {
-                    const float add = take ? sp : 0.f;
-                    run_zw += add;
-                    run_nz += take;
-                    instance_updates += take;
-                }
+                    continueRun(take, sp, run_zw, run_nz, instance_updates);
                 else
                 {
                     ++instance_updates;
@@ -276,12 +280,7 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
             const float sl = sem_score[i];
             const bool take = (L != 0) & (sl > theta_l);
             if (!(take & (L != run_l)))
-            {
-                const float add = take ? sl : 0.f;
-                run_lw += add;
-                run_nl += take;
-                semantic_updates += take;
-            }
+                continueRun(take, sl, run_lw, run_nl, semantic_updates);
             else
             {
                 ++semantic_updates;
