@@ -224,6 +224,12 @@ void PanopticMap::projectBand(const PanopticFrame& f, const Pose& T, int b, int 
     band.rows[0].resize(W);
     band.rows[1].resize(W);
     const ProjectRowFn projectRow = bestProjectRow();
+    // Spans only for several bands (the histogram tasks of one band walk the
+    // pixels). At most one per pixel: reserved once per image size, never grown.
+    const bool keep_spans = B > 1;
+    if (keep_spans) band.spans.reserve(size_t(r1 - r0) * W);
+    PixelSpan* const spans = band.spans.data();
+    PixelSpan* span_out = spans;
 
     uint64_t invalid = 0, over = 0, outside = 0;
     for (int r = r0; r < r1; ++r)
@@ -239,12 +245,16 @@ void PanopticMap::projectBand(const PanopticFrame& f, const Pose& T, int b, int 
         const int32_t* above = r > r0 ? srow - W : nullptr;
         const uint64_t* keys = row.key.data();
         const double *qxs = row.q[0].data(), *qys = row.q[1].data(), *qzs = row.q[2].data();
+        const uint32_t row_begin = uint32_t(size_t(r) * W);
         uint64_t run_key = kNoKey;
         int32_t run_slot = -1;
         uint32_t rn = 0;
         double r_s0 = 0, r_s1 = 0, r_s2 = 0, r_xx = 0, r_xy = 0, r_xz = 0, r_yy = 0, r_yz = 0, r_zz = 0;
-        const auto flush = [&] {
+        // A run's pixels are consecutive and mapped: [c_end - rn, c_end).
+        const auto flush = [&](int c_end) {
             if (rn == 0) return;
+            if (keep_spans)
+                *span_out++ = {row_begin + uint32_t(c_end) - rn, row_begin + uint32_t(c_end), uint32_t(run_slot)};
             band.last_row[size_t(run_slot)] = r;
             HitSlot& h = band.hits[size_t(run_slot)];
             h.count += rn;
@@ -263,7 +273,7 @@ void PanopticMap::projectBand(const PanopticFrame& f, const Pose& T, int b, int 
         for (int c = 0; c < W; ++c)
         {
             const uint64_t pk = keys[c];
-            if (pk != run_key)  // neighbouring pixels mostly share a voxel
+            if (__builtin_expect(pk != run_key, 0))  // neighbouring pixels mostly share a voxel
             {
                 if (pk >= kFirstSpecialKey)
                 {
@@ -271,9 +281,11 @@ void PanopticMap::projectBand(const PanopticFrame& f, const Pose& T, int b, int 
                     over += pk == kOverRangeKey;
                     outside += pk == kOutsideKey;
                     srow[c] = -1;
+                    flush(c);  // spans hold mapped pixels only
+                    run_key = kNoKey;
                     continue;
                 }
-                flush();
+                flush(c);
                 run_key = pk;
                 if (above && above_keys[c] == pk)
                     run_slot = above[c];
@@ -301,7 +313,7 @@ void PanopticMap::projectBand(const PanopticFrame& f, const Pose& T, int b, int 
             r_zz += qz * qz;
             srow[c] = run_slot;
         }
-        flush();
+        flush(W);
         if (per_pixel)
             for (int c = 0; c < W; ++c)
                 if (srow[c] >= 0)
@@ -313,6 +325,7 @@ void PanopticMap::projectBand(const PanopticFrame& f, const Pose& T, int b, int 
                                                  (vs / kSampleScale));
                 }
     }
+    band.spans.setSize(size_t(span_out - spans));
     band.valid = uint64_t(r1 - r0) * uint64_t(W) - invalid - over - outside;
     band.invalid = invalid;
     band.over_range = over;

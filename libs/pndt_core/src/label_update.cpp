@@ -1,11 +1,13 @@
 // Paper steps 5-6: instance and semantic histogram updates per mapped pixel.
 //
 // Parallel and deterministic: a voxel belongs to the projection band that saw
-// it first; the band's task walks the image in raster order from its first row
-// down to the last row its voxels reach, updating only its own voxels. So every
-// voxel takes its pixels in pixel order, whatever the number of bands. A voxel
-// that needs a new record gets a temporary one from its task; the temporaries
-// join the pools after the pass, in slot order.
+// it first; the band's task walks the pixel spans (a row's consecutive pixels
+// in one voxel) of its band and of the later bands, in raster order, down to
+// the last row its voxels reach, updating only its own voxels: another band's
+// voxel costs one test per span, not per pixel. So every voxel takes its pixels
+// in pixel order, whatever the number of bands; one band walks the pixels
+// directly. A voxel that needs a new record gets a temporary one from its task;
+// the temporaries join the pools after the pass, in slot order.
 //
 // Runs: consecutive pixels of one voxel with the same class (instance) add
 // their scores to the same histogram entry. The entry, the histogram's sum and
@@ -145,13 +147,13 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
     if (w.labels.capacity() < home_end - home_begin) w.labels.reserve(home_end - home_begin);
     if (w.instances.capacity() < home_end - home_begin) w.instances.reserve(home_end - home_begin);
 
-    // The band's rows, and on until the last row its voxels reach.
+    // The band's spans, and on through the later bands' spans until the last
+    // row its voxels reach.
     const int W = f.depth.width, H = f.depth.height;
-    const size_t i_begin = size_t(H * task / s.band_count) * W;
-    const size_t i_end = size_t(band.home_last_row + 1) * W;
+    const uint32_t i_end = uint32_t(size_t(band.home_last_row + 1) * W);
+    const int last_band = s.bandOfRow(band.home_last_row, H);
     const bool instances = f.hasInstances();
     const float theta_l = float(options_.theta_l), theta_z = float(options_.theta_z);
-    const int32_t* slots = s.pixel_slot.data();
     const uint16_t* sem = f.semantic.data.data();
     const float* sem_score = f.semantic_score.data.data();
     const int32_t* predicted = instances ? s.pixel_predicted.data() : nullptr;
@@ -205,98 +207,102 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
         return *rec;
     };
 
-    // Pixels hold their band's local slot and predicted index: translated with
-    // the remaps of the band each row belongs to.
-    const uint32_t* slot_of = nullptr;
+    // Spans and pixels hold their band's local slot and predicted index:
+    // translated with the remaps of their band (identity for band 0).
     const int32_t* predicted_of = nullptr;
-    size_t band_end = i_begin;
-    // One band (one thread): no translation, in a loop of its own.
-    const auto walk = [&](auto bands) {
-        constexpr bool kTranslate = decltype(bands)::value;
-        for (size_t i = i_begin; i < i_end; ++i)
+    // The voxel of frame slot `slot` becomes the current one.
+    const auto enter = [&](uint32_t slot) {
+        flushSemantic();
+        flushInstance();
+        cur = int32_t(slot);
+        cur_records = &slot_records[slot];
+        if (!cur_records->known)
         {
-            if (kTranslate && i == band_end)
-            {
-                const int b = s.bandOfRow(int(i / size_t(W)), H);
-                band_end = std::min(i_end, size_t(H * (b + 1) / s.band_count) * W);
-                slot_of = s.bands[size_t(b)].remap.data();
-                if (instances) predicted_of = s.predicted_bands[size_t(b)].remap.data();
-            }
-            if (slots[i] < 0) continue;
-            const int32_t slot = kTranslate ? int32_t(slot_of[slots[i]]) : slots[i];
-            if (slot != cur)  // neighbouring pixels mostly share a voxel
-            {
-                if (uint32_t(slot) < home_begin || uint32_t(slot) >= home_end) continue;  // another band's voxel
-                flushSemantic();
-                flushInstance();
-                cur = slot;
-                cur_records = &slot_records[slot];
-                if (!cur_records->known)
-                {
-                    // First pixel of this voxel in this frame: find its records.
-                    cur_records->known = true;
-                    const uint32_t li = surfaces_[store_[hits[slot].voxel].surface].labels;
-                    cur_records->label = li != kNoRecord ? &labels_[li] : nullptr;
-                    cur_records->instance = cur_records->label && cur_records->label->instances != kNoRecord
-                                                ? &instance_records_[cur_records->label->instances]
-                                                : nullptr;
-                }
-                rec = cur_records->label;
-                inst = cur_records->instance;
-            }
-
-            if (instances)
-            {
-                const int32_t p = predicted[i];
-                const uint32_t z = split_stamp && split_stamp[i] == split_now ? split_id[i]
-                                   : p >= 0 ? decision[size_t(kTranslate ? predicted_of[p] : p)]
-                                            : 0;
-                const float sp = pan_score[i];
-                // Scores near the threshold make "is it an update" unpredictable:
-                // the common cases take no branch (adding +0 leaves a weight as it is).
-                const bool take = (z != 0) & (sp > theta_z);
-                if (!(take & (z != run_z)))
-                    continueRun(take, sp, run_zw, run_nz, instance_updates);
-                else
-                {
-                    ++instance_updates;
-                    {
-                        flushInstance();
-                        labelRecord();  // the label record links the instance record
-                        if (!inst)
-                        {
-                            s.new_instance[size_t(cur)] = uint32_t(w.instances.size());
-                            w.instances.emplace_back();
-                            inst = &w.instances.back();
-                            cur_records->instance = inst;
-                        }
-                        startRun(inst->hist, z, sp, inst->n_z, run_zi, run_zw, run_nz);
-                        run_z = z;
-                    }
-                }
-            }
-
-            const uint16_t L = sem[i];
-            const float sl = sem_score[i];
-            const bool take = (L != 0) & (sl > theta_l);
-            if (!(take & (L != run_l)))
-                continueRun(take, sl, run_lw, run_nl, semantic_updates);
+            // First pixel of this voxel in this frame: find its records.
+            cur_records->known = true;
+            const uint32_t li = surfaces_[store_[hits[slot].voxel].surface].labels;
+            cur_records->label = li != kNoRecord ? &labels_[li] : nullptr;
+            cur_records->instance = cur_records->label && cur_records->label->instances != kNoRecord
+                                        ? &instance_records_[cur_records->label->instances]
+                                        : nullptr;
+        }
+        rec = cur_records->label;
+        inst = cur_records->instance;
+    };
+    // One pixel of the current voxel.
+    const auto update = [&](uint32_t i, auto translate) {
+        constexpr bool kTranslate = decltype(translate)::value;
+        if (instances)
+        {
+            const int32_t p = predicted[i];
+            const uint32_t z = split_stamp && split_stamp[i] == split_now ? split_id[i]
+                               : p >= 0 ? decision[size_t(kTranslate ? predicted_of[p] : p)]
+                                        : 0;
+            const float sp = pan_score[i];
+            // Scores near the threshold make "is it an update" unpredictable:
+            // the common cases take no branch (adding +0 leaves a weight as it is).
+            const bool take = (z != 0) & (sp > theta_z);
+            if (!(take & (z != run_z)))
+                continueRun(take, sp, run_zw, run_nz, instance_updates);
             else
             {
-                ++semantic_updates;
+                ++instance_updates;
+                flushInstance();
+                labelRecord();  // the label record links the instance record
+                if (!inst)
                 {
-                    flushSemantic();
-                    LabelRecord& r = labelRecord();
-                    startRun(r.semantic, uint8_t(L), sl, r.n_l, run_li, run_lw, run_nl);
-                    run_l = uint8_t(L);
+                    s.new_instance[size_t(cur)] = uint32_t(w.instances.size());
+                    w.instances.emplace_back();
+                    inst = &w.instances.back();
+                    cur_records->instance = inst;
                 }
+                startRun(inst->hist, z, sp, inst->n_z, run_zi, run_zw, run_nz);
+                run_z = z;
             }
         }
+
+        const uint16_t L = sem[i];
+        const float sl = sem_score[i];
+        const bool take = (L != 0) & (sl > theta_l);
+        if (!(take & (L != run_l)))
+            continueRun(take, sl, run_lw, run_nl, semantic_updates);
+        else
+        {
+            ++semantic_updates;
+            flushSemantic();
+            LabelRecord& r = labelRecord();
+            startRun(r.semantic, uint8_t(L), sl, r.n_l, run_li, run_lw, run_nl);
+            run_l = uint8_t(L);
+        }
     };
-    if (s.band_count > 1)
-        walk(std::true_type{});
+    if (s.band_count == 1)
+    {
+        // One band (one thread): every pixel in raster order, no translation.
+        const int32_t* slots = s.pixel_slot.data();
+        for (uint32_t i = 0, n = uint32_t(size_t(W) * H); i < n; ++i)
+        {
+            if (slots[i] < 0) continue;
+            if (slots[i] != cur) enter(uint32_t(slots[i]));  // neighbouring pixels mostly share a voxel
+            update(i, std::false_type{});
+        }
+    }
     else
-        walk(std::false_type{});
+    {
+        for (int b = task; b <= last_band; ++b)
+        {
+            const ProjectionBand& pb = s.bands[size_t(b)];
+            const uint32_t* slot_of = pb.remap.data();
+            if (instances) predicted_of = s.predicted_bands[size_t(b)].remap.data();
+            for (const PixelSpan& span : pb.spans)
+            {
+                if (span.begin >= i_end) break;
+                const uint32_t slot = slot_of[span.slot];
+                if (slot < home_begin || slot >= home_end) continue;  // another band's voxel
+                if (int32_t(slot) != cur) enter(slot);
+                for (uint32_t i = span.begin; i < span.end; ++i) update(i, std::true_type{});
+            }
+        }
+    }
     flushSemantic();
     flushInstance();
     w.semantic_updates = semantic_updates;

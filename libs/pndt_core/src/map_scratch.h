@@ -79,6 +79,37 @@ struct HitSlot
     }
 };
 
+/// Consecutive mapped pixels of one image row in one voxel: pixels [begin, end)
+/// all have local slot `slot` of their band.
+struct PixelSpan
+{
+    uint32_t begin, end, slot;
+};
+
+/// Room for one span per pixel of a band, allocated uninitialised (no page is
+/// touched before it is written) and written through a plain pointer.
+class SpanBuffer
+{
+   public:
+    void reserve(size_t n)
+    {
+        if (n <= capacity_) return;
+        data_.reset(new PixelSpan[n]);
+        capacity_ = n;
+        size_ = 0;
+    }
+    PixelSpan* data() { return data_.get(); }
+    void setSize(size_t n) { size_ = n; }
+    void clear() { size_ = 0; }
+    size_t size() const { return size_; }
+    const PixelSpan* begin() const { return data_.get(); }
+    const PixelSpan* end() const { return data_.get() + size_; }
+
+   private:
+    std::unique_ptr<PixelSpan[]> data_;
+    size_t size_ = 0, capacity_ = 0;
+};
+
 /// The rows of the image one task projects: its own voxel table and counters.
 struct ProjectionBand
 {
@@ -88,6 +119,9 @@ struct ProjectionBand
     std::vector<uint32_t> remap;                 ///< local slot -> frame slot (identity in band 0)
     std::vector<Eigen::Vector3d> points;         ///< RayMode::PerPixel only
     std::vector<int32_t> last_row;               ///< per local slot: last image row it was seen in
+    /// The band's mapped pixels in raster order, cut where the voxel changes or
+    /// a pixel is not mapped: the histogram tasks walk these, not the pixels.
+    SpanBuffer spans;
     uint32_t home_begin = 0, home_end = 0;       ///< frame slots first seen in this band
     int home_last_row = 0;                       ///< last row any of them reaches
     RowBuffer rows[2];
@@ -99,6 +133,7 @@ struct ProjectionBand
         count = 0;
         points.clear();
         last_row.clear();
+        spans.clear();
         valid = invalid = over_range = outside = 0;
     }
     HitSlot& newHit()
