@@ -76,7 +76,6 @@ void PanopticMap::projectPixels(const PanopticFrame& f, const Pose& T, FrameStat
     }
     if (s.bands.size() < size_t(B)) s.bands.resize(size_t(B));
     s.band_count = B;
-    for (int b = 0; b < B; ++b) s.bands[size_t(b)].clear();
 
     // The bands are merged into band 0 in band order: frame slots stay in order
     // of their first pixel, as with a single band. Pixels keep their band's
@@ -214,6 +213,7 @@ void PanopticMap::projectBand(const PanopticFrame& f, const Pose& T, int b, int 
 {
     Scratch& s = *scratch_;
     ProjectionBand& band = s.bands[size_t(b)];
+    band.clear();  // here, in parallel: clearing a voxel table costs its whole capacity
     const int W = f.depth.width, H = f.depth.height;
     const int r0 = H * b / B, r1 = H * (b + 1) / B;
     const bool per_pixel = options_.ray_mode == RayMode::PerPixel;
