@@ -149,11 +149,26 @@ void PanopticMap::matchInstances(const PanopticFrame& f, const Pose& T, FrameSta
         a = b;
     }
 
-    // One mask per map instance, in parallel; each thread has its own per-pixel
-    // stamps (a pixel counts once per mask). IoUs are compared in instance order.
-    const size_t G = s.groups.size();
-    s.group_area.assign(G, 0);
-    s.group_inter.assign(G * P, 0);
+    // One mask per map instance. Each mask is cut into the image's row bands,
+    // so that a large one does not leave a thread alone at the end: a pixel
+    // lies in one band, so each piece dedupes its own pixels (per-thread
+    // stamps) and the pieces' counts add up (per-thread sums). Largest masks
+    // first. The footprints of the candidate voxels are computed once.
+    const size_t G = s.groups.size(), C = s.candidates.size();
+    const Pose T_cam_world = T.inverse();
+    s.footprints.resize(C);
+    const auto footprints = [&](int t, int tasks) {
+        for (size_t c = C * size_t(t) / size_t(tasks), e = C * size_t(t + 1) / size_t(tasks); c < e; ++c)
+            s.footprints[c] = maskFootprint(s.candidates[c].second, T_cam_world, f.K);
+    };
+    const int footprint_tasks = threads > 1 && C >= 256 ? 4 * threads : 1;
+    if (footprint_tasks > 1)
+        s.pool->run(footprint_tasks, [&](int t) { footprints(t, footprint_tasks); });
+    else
+        footprints(0, 1);
+
+    const int H = f.depth.height;
+    const int pieces = threads > 1 ? B : 1;
     if (s.mask_workers.size() < size_t(threads)) s.mask_workers.resize(size_t(threads));
     for (int t = 0; t < threads; ++t)
     {
@@ -163,36 +178,49 @@ void PanopticMap::matchInstances(const PanopticFrame& f, const Pose& T, FrameSta
             m.stamp.assign(N, 0);
             m.counter = 0;
         }
+        m.area.assign(G, 0);
+        m.inter.assign(G * P, 0);
     }
-    const Pose T_cam_world = T.inverse();
-    const auto mask = [&](int gi, int thread) {
+    s.mask_order.resize(G);
+    for (size_t gi = 0; gi < G; ++gi) s.mask_order[gi] = uint32_t(gi);
+    const auto size = [&](uint32_t gi) { return s.groups[gi].second - s.groups[gi].first; };
+    std::sort(s.mask_order.begin(), s.mask_order.end(),
+              [&](uint32_t a, uint32_t b) { return size(a) != size(b) ? size(a) > size(b) : a < b; });
+    const auto mask = [&](int task, int thread) {
+        const size_t gi = s.mask_order[size_t(task / pieces)];
+        const int piece = task % pieces, row_begin = H * piece / pieces, row_end = H * (piece + 1) / pieces;
         MaskWorker& m = s.mask_workers[size_t(thread)];
         const uint32_t stamp = ++m.counter;
         uint64_t area = 0;
-        uint64_t* inter = &s.group_inter[size_t(gi) * P];
+        uint64_t* inter = &m.inter[gi * P];
         uint32_t* stamps = m.stamp.data();
-        for (size_t c = s.groups[size_t(gi)].first; c < s.groups[size_t(gi)].second; ++c)
-            forEachMaskPixel(s.candidates[c].second, T_cam_world, f, [&](size_t i, int32_t p) {
+        for (size_t c = s.groups[gi].first; c < s.groups[gi].second; ++c)
+        {
+            const MaskFootprint& fp = s.footprints[c];
+            const int r0 = std::max(fp.r0, row_begin), r1 = std::min(fp.r1 + 1, row_end);
+            if (r0 >= r1) continue;
+            forEachFootprintPixel(fp, r0, r1, f, [&](size_t i, int32_t p) {
                 if (stamps[i] == stamp) return;
                 stamps[i] = stamp;
                 ++area;
                 if (p >= 0) ++inter[size_t(p)];
             });
-        s.group_area[size_t(gi)] = area;
+        }
+        m.area[gi] += area;
     };
-    if (threads > 1 && G > 1)
-    {
-        // Largest masks first, so that no thread is left with a big one at the end.
-        s.mask_order.resize(G);
-        for (size_t gi = 0; gi < G; ++gi) s.mask_order[gi] = uint32_t(gi);
-        const auto size = [&](uint32_t gi) { return s.groups[gi].second - s.groups[gi].first; };
-        std::sort(s.mask_order.begin(), s.mask_order.end(), [&](uint32_t a, uint32_t b) {
-            return size(a) != size(b) ? size(a) > size(b) : a < b;
-        });
-        s.pool->runWithThread(int(G), [&](int task, int thread) { mask(int(s.mask_order[size_t(task)]), thread); });
-    }
+    const int mask_tasks = int(G) * pieces;
+    if (threads > 1 && mask_tasks > 1)
+        s.pool->runWithThread(mask_tasks, mask);
     else
-        for (size_t gi = 0; gi < G; ++gi) mask(int(gi), 0);
+        for (int task = 0; task < mask_tasks; ++task) mask(task, 0);
+    s.group_area.assign(G, 0);
+    s.group_inter.assign(G * P, 0);
+    for (int t = 0; t < threads; ++t)
+    {
+        const MaskWorker& m = s.mask_workers[size_t(t)];
+        for (size_t gi = 0; gi < G; ++gi) s.group_area[gi] += m.area[gi];
+        for (size_t k = 0; k < G * P; ++k) s.group_inter[k] += m.inter[k];
+    }
 
     s.iou.resize(G * P);
     for (size_t gi = 0; gi < G; ++gi)
@@ -227,7 +255,7 @@ void PanopticMap::matchInstances(const PanopticFrame& f, const Pose& T, FrameSta
         else
             ++st.ambiguous_instances;
     }
-    splitMergedPredictions(f, T_cam_world, st);
+    splitMergedPredictions(f, st);
     collectFragmentEvidence();
 }
 
@@ -307,7 +335,7 @@ void PanopticMap::classifyMapInstances()
     }
 }
 
-void PanopticMap::splitMergedPredictions(const PanopticFrame& f, const Pose& T_cam_world, FrameStats& st)
+void PanopticMap::splitMergedPredictions(const PanopticFrame& f, FrameStats& st)
 {
     Scratch& s = *scratch_;
     s.split_pixels = false;
@@ -340,51 +368,46 @@ void PanopticMap::splitMergedPredictions(const PanopticFrame& f, const Pose& T_c
             s.split_pixels = true;
             for (size_t c = s.groups[gi].first; c < s.groups[gi].second; ++c)
                 if (ownThingClass(*labelsOf(store_[s.candidates[c].second]), classes) != g.cls[p])
-                forEachMaskPixel(s.candidates[c].second, T_cam_world, f, [&](size_t i, int32_t q) {
-                    if (q != int32_t(p)) return;
-                    s.split_stamp[i] = stamp;
-                    s.split_id[i] = z;
-                });
+                    forEachFootprintPixel(s.footprints[c], s.footprints[c].r0, s.footprints[c].r1 + 1, f,
+                                          [&](size_t i, int32_t q) {
+                                              if (q != int32_t(p)) return;
+                                              s.split_stamp[i] = stamp;
+                                              s.split_id[i] = z;
+                                          });
         }
     }
 }
 
-template <class Visit>
-void PanopticMap::forEachMaskPixel(uint32_t voxel, const Pose& T_cam_world, const PanopticFrame& f, Visit&& visit)
+MaskFootprint PanopticMap::maskFootprint(uint32_t voxel, const Pose& T_cam_world, const CameraIntrinsics& K) const
 {
-    Scratch& s = *scratch_;
     const Voxel& v = store_[voxel];
     const VoxelKey key = store_.key(voxel);
-    const CameraIntrinsics& K = f.K;
-    const int W = K.width, H = K.height;
-    const double tol = options_.vtou_depth_tolerance * options_.voxel_size;
-
-    double z0;                 // depth the pixels must agree with
-    int c0, c1, r0, r1;        // pixel window
-    Eigen::Matrix2d S_inv = Eigen::Matrix2d::Zero();
-    double u0 = 0, v0 = 0;
-    const bool ellipse = options_.use_ndt && hasGaussian(v);
-    if (ellipse)
+    MaskFootprint fp;
+    fp.ellipse = options_.use_ndt && hasGaussian(v);
+    if (fp.ellipse)
     {
         // vtou: the Gaussian projected to the image, J * Sigma_cam * J^T.
         const NdtGaussian g = gaussianOf(v);
         const Eigen::Vector3d m = T_cam_world * g.mean;
-        if (m.z() <= 1e-3) return;
+        if (m.z() <= 1e-3) return fp;
         const Eigen::Matrix3d R = T_cam_world.linear();
         const Eigen::Matrix3d Sc = R * g.cov * R.transpose();
         Eigen::Matrix<double, 2, 3> J;
         J << K.fx / m.z(), 0, -K.fx * m.x() / (m.z() * m.z()), 0, K.fy / m.z(), -K.fy * m.y() / (m.z() * m.z());
         const Eigen::Matrix2d S = J * Sc * J.transpose();
-        S_inv = S.inverse();
-        u0 = K.fx * m.x() / m.z() + K.cx;
-        v0 = K.fy * m.y() / m.z() + K.cy;
+        const Eigen::Matrix2d S_inv = S.inverse();
+        fp.s00 = S_inv(0, 0);
+        fp.s01 = S_inv(0, 1);
+        fp.s11 = S_inv(1, 1);
+        fp.u0 = K.fx * m.x() / m.z() + K.cx;
+        fp.v0 = K.fy * m.y() / m.z() + K.cy;
         const double k2 = options_.vtou_mahalanobis_sq;
         const double rx = std::sqrt(k2 * S(0, 0)), ry = std::sqrt(k2 * S(1, 1));
-        c0 = clampedInt(std::ceil(u0 - rx));
-        c1 = clampedInt(std::floor(u0 + rx));
-        r0 = clampedInt(std::ceil(v0 - ry));
-        r1 = clampedInt(std::floor(v0 + ry));
-        z0 = m.z();
+        fp.c0 = clampedInt(std::ceil(fp.u0 - rx));
+        fp.c1 = clampedInt(std::floor(fp.u0 + rx));
+        fp.r0 = clampedInt(std::ceil(fp.v0 - ry));
+        fp.r1 = clampedInt(std::floor(fp.v0 + ry));
+        fp.z0 = m.z();
     }
     else
     {
@@ -396,48 +419,58 @@ void PanopticMap::forEachMaskPixel(uint32_t voxel, const Pose& T_cam_world, cons
         {
             const Eigen::Vector3d p =
                 T_cam_world * (lo + Eigen::Vector3d((corner & 1) * sz, ((corner >> 1) & 1) * sz, ((corner >> 2) & 1) * sz));
-            if (p.z() <= 1e-3) return;
+            if (p.z() <= 1e-3) return fp;
             const double u = K.fx * p.x() / p.z() + K.cx, vv = K.fy * p.y() / p.z() + K.cy;
             umin = std::min(umin, u);
             umax = std::max(umax, u);
             vmin = std::min(vmin, vv);
             vmax = std::max(vmax, vv);
         }
-        c0 = clampedInt(std::ceil(umin - 0.5));
-        c1 = clampedInt(std::floor(umax - 0.5));
-        r0 = clampedInt(std::ceil(vmin - 0.5));
-        r1 = clampedInt(std::floor(vmax - 0.5));
-        z0 = (T_cam_world * grid_.center(key)).z();
+        fp.c0 = clampedInt(std::ceil(umin - 0.5));
+        fp.c1 = clampedInt(std::floor(umax - 0.5));
+        fp.r0 = clampedInt(std::ceil(vmin - 0.5));
+        fp.r1 = clampedInt(std::floor(vmax - 0.5));
+        fp.z0 = (T_cam_world * grid_.center(key)).z();
     }
-    c0 = std::max(c0, 0);
-    r0 = std::max(r0, 0);
-    c1 = std::min(c1, W - 1);
-    r1 = std::min(r1, H - 1);
+    fp.c0 = std::max(fp.c0, 0);
+    fp.r0 = std::max(fp.r0, 0);
+    fp.c1 = std::min(fp.c1, K.width - 1);
+    fp.r1 = std::min(fp.r1, K.height - 1);
+    return fp;
+}
+
+template <class Visit>
+void PanopticMap::forEachFootprintPixel(const MaskFootprint& fp, int row_begin, int row_end, const PanopticFrame& f,
+                                        Visit&& visit)
+{
+    Scratch& s = *scratch_;
+    const int W = f.depth.width, H = f.depth.height;
+    const double tol = options_.vtou_depth_tolerance * options_.voxel_size;
     const double k2 = options_.vtou_mahalanobis_sq;
     const int32_t* predicted = s.pixel_predicted.data();
     const float* depth = f.depth.data.data();
-    for (int r = r0; r <= r1; ++r)
+    for (int r = row_begin; r < row_end; ++r)
     {
         const int32_t* to_frame = s.predicted_bands[size_t(s.bandOfRow(r, H))].remap.data();
-        int a = c0, b = c1;
-        if (ellipse)
+        int a = fp.c0, b = fp.c1;
+        if (fp.ellipse)
         {
             // Pixel centres inside the ellipse: S00 du^2 + 2 S01 du dv + S11 dv^2 <= k2,
             // an interval of du per row.
-            const double dv = r - v0;
-            const double qa = S_inv(0, 0), qb = 2 * S_inv(0, 1) * dv, qc = S_inv(1, 1) * dv * dv - k2;
+            const double dv = r - fp.v0;
+            const double qa = fp.s00, qb = 2 * fp.s01 * dv, qc = fp.s11 * dv * dv - k2;
             const double disc = qb * qb - 4 * qa * qc;
             if (!(disc >= 0) || !(qa > 0)) continue;
             const double root = std::sqrt(disc);
-            a = std::max(a, clampedInt(std::ceil(u0 + (-qb - root) / (2 * qa))));
-            b = std::min(b, clampedInt(std::floor(u0 + (-qb + root) / (2 * qa))));
+            a = std::max(a, clampedInt(std::ceil(fp.u0 + (-qb - root) / (2 * qa))));
+            b = std::min(b, clampedInt(std::floor(fp.u0 + (-qb + root) / (2 * qa))));
         }
         const size_t row = size_t(r) * W;
         for (int c = a; c <= b; ++c)
         {
             const size_t i = row + c;
             const int32_t p = predicted[i];
-            if (p == kUnmappedPixel || std::abs(depth[i] - z0) > tol) continue;  // depth test
+            if (p == kUnmappedPixel || std::abs(depth[i] - fp.z0) > tol) continue;  // depth test
             visit(i, p >= 0 ? to_frame[p] : p);
         }
     }

@@ -250,11 +250,27 @@ struct PredictedBand
     std::vector<int32_t> remap;                ///< local index -> frame index (identity in band 0)
 };
 
-/// Per-thread stamps of the mask rasterisation: a pixel counts once per mask.
+/// A candidate voxel in the image: pixel rows r0..r1 and columns c0..c1, within
+/// them the pixel centres inside the projected Gaussian's ellipse (vtou) or,
+/// without a Gaussian, the projected cube's box. Empty when r0 > r1.
+struct MaskFootprint
+{
+    bool ellipse = false;
+    int c0 = 0, c1 = -1, r0 = 0, r1 = -1;
+    double u0 = 0, v0 = 0;              ///< ellipse centre (pixels)
+    double s00 = 0, s01 = 0, s11 = 0;   ///< inverse of its 2x2 covariance
+    double z0 = 0;                      ///< depth the pixels must agree with
+};
+
+/// Per-thread state of the mask rasterisation: stamps (a pixel counts once per
+/// mask) and the thread's counts per map instance (summed afterwards: integer
+/// sums, so any split of the work gives the same totals).
 struct MaskWorker
 {
     std::vector<uint32_t> stamp;
     uint32_t counter = 0;
+    std::vector<uint64_t> area;   ///< per group
+    std::vector<uint64_t> inter;  ///< per group x predicted
 };
 
 /// The records of a frame slot's voxel, looked up on its first pixel.
@@ -329,6 +345,7 @@ struct PanopticMap::Scratch
     std::vector<uint64_t> group_inter;                   ///< per group x predicted: intersection
     std::vector<MaskWorker> mask_workers;                ///< per thread
     std::vector<uint32_t> mask_order;                    ///< groups, largest first
+    std::vector<MaskFootprint> footprints;               ///< per candidate
     std::vector<double> iou;                             ///< per group x predicted
     std::vector<int32_t> assignment;                     ///< per predicted: group, kAssignNew/Ambiguous
     std::vector<float> class_mass;                       ///< per class, one group at a time

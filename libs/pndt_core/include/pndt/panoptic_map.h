@@ -79,7 +79,8 @@ struct PointLabel
     uint32_t voxel = kNoRecord;   ///< index of the chosen voxel
 };
 
-struct RayWorker;  // integrate()'s per-thread free-space scratch
+struct RayWorker;      // integrate()'s per-thread free-space scratch
+struct MaskFootprint;  // a voxel's back-projection into the image
 
 class PanopticMap
 {
@@ -193,14 +194,17 @@ class PanopticMap
     void applyMisses(FrameStats& st);
     void matchInstances(const PanopticFrame& f, const Pose& T, FrameStats& st);
     void predictedBand(const PanopticFrame& f, int band, int bands);
-    /// vtou of one voxel: calls visit(pixel index, predicted local index or -1)
-    /// for each pixel of its footprint that passes the depth test.
+    /// vtou of one voxel: where it lies in the image.
+    MaskFootprint maskFootprint(uint32_t voxel, const Pose& T_cam_world, const CameraIntrinsics& K) const;
+    /// Calls visit(pixel index, predicted index or -1) for each pixel of the
+    /// footprint in image rows [row_begin, row_end) that passes the depth test.
     template <class Visit>
-    void forEachMaskPixel(uint32_t voxel, const Pose& T_cam_world, const PanopticFrame& f, Visit&& visit);
+    void forEachFootprintPixel(const MaskFootprint& fp, int row_begin, int row_end, const PanopticFrame& f,
+                               Visit&& visit);
     void classifyMapInstances();
     void collectFragmentEvidence();
     void mergeFragments(FrameStats& st);
-    void splitMergedPredictions(const PanopticFrame& f, const Pose& T_cam_world, FrameStats& st);
+    void splitMergedPredictions(const PanopticFrame& f, FrameStats& st);
     void updateHistograms(const PanopticFrame& f, FrameStats& st);
     void histogramTask(const PanopticFrame& f, int task);
     void resetVoxelContents(Voxel& v);
