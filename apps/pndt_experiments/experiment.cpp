@@ -185,6 +185,11 @@ std::vector<RowSpec> makeRows(const Plan& plan)
     MapOptions no_fill = baseOptions(plan, a);
     no_fill.label_fill_distance = 0;
     rows.push_back(mapRow("nofill-net@" + cm(a), "ablation", "w/o label fill", a, Input::Network, no_fill));
+    // The speed-up's one approximation: one free-space ray per endpoint voxel.
+    MapOptions per_pixel = baseOptions(plan, a);
+    per_pixel.ray_mode = RayMode::PerPixel;
+    rows.push_back(
+        mapRow("perpixel-net@" + cm(a), "ablation", "per-pixel rays (no merged rays)", a, Input::Network, per_pixel));
     // An ablation voxel size outside the main list still needs its reference rows.
     if (std::find(plan.voxels.begin(), plan.voxels.end(), a) == plan.voxels.end())
     {

@@ -223,6 +223,7 @@ std::string buildReport(const Plan& plan, const std::vector<RunResult>& runs, co
     md << tableRow(plan, runs, "thr-0.3-0.15@" + a, spread);
     md << tableRow(plan, runs, "paper-instances@" + a, spread);
     md << tableRow(plan, runs, "nofill-net@" + a, spread);
+    md << tableRow(plan, runs, "perpixel-net@" + a, spread);
     md << "\n";
     md << "* **w/o NDT**: `use_ndt = false` (cube voxels: plain free-space updates, containing-voxel lookup).\n"
           "* **w/o panoptic propagation**: the same map as PanopticNDT, read without propagation: each voxel / "
@@ -239,7 +240,10 @@ std::string buildReport(const Plan& plan, const std::vector<RunResult>& runs, co
           "heal only through the histograms.\n"
           "* **w/o label fill**: `label_fill_distance = 0`: occupied voxels that never had a view above theta_L "
           "stay void in the panoptic output instead of taking their labelled neighbours' label (the semantic "
-          "output, and so mIoU, never uses the fill).\n\n";
+          "output, and so mIoU, never uses the fill).\n"
+          "* **per-pixel rays**: `ray_mode = per_pixel`: a free-space ray to every mapped pixel's sample "
+          "instead of one ray per distinct endpoint voxel to the mean of its samples (the default, the speed-up's "
+          "one approximation; doc/benchmarks.md).\n\n";
 
     // ---- validation
     if (ctx.validation)

@@ -58,7 +58,8 @@ TEST(ExperimentReport, RowsCoverTheTableShape)
     };
     for (const char* id : {"raw-net", "raw-gt", "ndt-net@5cm", "ndt-net@10cm", "ndt-net@20cm", "cube-net@10cm",
                            "noprop-net@10cm", "ndt-gt@20cm", "semonly-net@10cm", "thr-0.1-0.05@10cm",
-                           "thr-0.3-0.15@10cm", "paper-instances@10cm", "nofill-net@10cm"})
+                           "thr-0.3-0.15@10cm", "paper-instances@10cm", "nofill-net@10cm",
+                           "perpixel-net@10cm"})
         EXPECT_TRUE(has(id)) << id;
     EXPECT_FALSE(has("tuned-net@10cm"));
     for (const auto& r : rows)
@@ -81,6 +82,11 @@ TEST(ExperimentReport, RowsCoverTheTableShape)
         if (r.id == "nofill-net@10cm")
         {
             EXPECT_EQ(r.options.label_fill_distance, 0.0);
+        }
+        if (r.id == "perpixel-net@10cm")
+        {
+            EXPECT_EQ(r.options.ray_mode, pndt::RayMode::PerPixel);
+            EXPECT_EQ(r.options.label_fill_distance, 0.3);  // only the rays differ from the reference
         }
         if (r.id == "noprop-net@10cm")
         {
