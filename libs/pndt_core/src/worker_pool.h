@@ -6,7 +6,8 @@
 //
 // A frame has about a dozen parallel stages with short serial parts between
 // them, and waking a sleeping thread costs tens of microseconds or more (an
-// idle virtual CPU is halted): during a frame (a Burst) idle workers spin,
+// idle virtual CPU is halted): during a frame (a Burst) idle workers, and the
+// caller waiting for the last tasks of a stage, spin;
 // between frames they spin for a short while (kSpin) and then sleep.
 #pragma once
 
@@ -107,8 +108,9 @@ class WorkerPool
         }
         wake_.notify_all();
         work(job, 0);
-        // Wait for the tasks other threads took: spin a little, then sleep.
-        const auto until = std::chrono::steady_clock::now() + kSpin;
+        // Wait for the tasks other threads took: spin a little (during a burst
+        // as long as the workers do: the next stage follows), then sleep.
+        const auto until = std::chrono::steady_clock::now() + (bursts_.load() > 0 ? kBurstSpin : kSpin);
         while (job.finished.load() < job.tasks && std::chrono::steady_clock::now() < until) pause();
         if (job.finished.load() < job.tasks)
         {
