@@ -169,11 +169,13 @@ void PanopticMap::matchInstances(const PanopticFrame& f, const Pose& T, FrameSta
 
     const int H = f.depth.height;
     const int pieces = threads > 1 ? B : 1;
+    const int mask_tasks = int(G) * pieces;
     if (s.mask_workers.size() < size_t(threads)) s.mask_workers.resize(size_t(threads));
     for (int t = 0; t < threads; ++t)
     {
         MaskWorker& m = s.mask_workers[size_t(t)];
-        if (m.stamp.size() != N || m.counter > 0xFFFFFF00u)
+        // One stamp per task: this frame's must not wrap around to the stamps' 0.
+        if (m.stamp.size() != N || m.counter > 0xFFFFFFFFu - uint32_t(mask_tasks))
         {
             m.stamp.assign(N, 0);
             m.counter = 0;
@@ -208,7 +210,6 @@ void PanopticMap::matchInstances(const PanopticFrame& f, const Pose& T, FrameSta
         }
         m.area[gi] += area;
     };
-    const int mask_tasks = int(G) * pieces;
     if (threads > 1 && mask_tasks > 1)
         s.pool->runWithThread(mask_tasks, mask);
     else
