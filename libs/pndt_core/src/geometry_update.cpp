@@ -281,8 +281,11 @@ void PanopticMap::projectBand(const PanopticFrame& f, const Pose& T, int b, int 
                     over += pk == kOverRangeKey;
                     outside += pk == kOutsideKey;
                     srow[c] = -1;
-                    flush(c);  // spans hold mapped pixels only
-                    run_key = kNoKey;
+                    if (keep_spans)  // spans hold mapped pixels only; sums may run across a hole
+                    {
+                        flush(c);
+                        run_key = kNoKey;
+                    }
                     continue;
                 }
                 flush(c);
