@@ -76,14 +76,14 @@ uint64_t stateHash(const PanopticMap& m)
     for (const LabelRecord& r : m.labelRecords())
     {
         f.bytes(r.semantic.ids, sizeof(r.semantic.ids));
-        f.bytes(r.semantic.weights, sizeof(r.semantic.weights));
+        for (int j = 0; j < LabelRecord::kSemanticCapacity; ++j) f.value(r.semantic.weight(j));
         f.value(r.n_l);
         f.value(r.instances);
     }
     for (const InstanceRecord& r : m.instanceRecords())
     {
         f.bytes(r.hist.ids, sizeof(r.hist.ids));
-        f.bytes(r.hist.weights, sizeof(r.hist.weights));
+        for (int j = 0; j < InstanceHistogram::kCapacity; ++j) f.value(r.hist.weight(j));
         f.value(r.n_z);
     }
     f.value(m.nextInstanceId());

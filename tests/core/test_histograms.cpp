@@ -3,7 +3,7 @@
 #include <pndt/instance_rules.h>
 
 using namespace pndt;
-using InstanceHist = SparseHistogram<uint32_t, 16>;
+using InstanceHist = InstanceHistogram;
 
 TEST(SparseHistogram, KeepsEntriesSortedByWeight)
 {
@@ -13,7 +13,7 @@ TEST(SparseHistogram, KeepsEntriesSortedByWeight)
     h.add(7, 2.5f);  // 7 now weighs 3.5 and moves ahead of 9
     ASSERT_EQ(h.size(), 2);
     EXPECT_EQ(h.ids[0], 7u);
-    EXPECT_FLOAT_EQ(h.weights[0], 3.5f);
+    EXPECT_FLOAT_EQ(h.weight(0), 3.5f);
     EXPECT_EQ(h.ids[1], 9u);
     EXPECT_FLOAT_EQ(h.sum(), 6.5f);
     EXPECT_EQ(h.top(), 7u);
@@ -35,7 +35,7 @@ TEST(SparseHistogram, SeventeenthInstanceReplacesTheSmallestEntry)
     EXPECT_EQ(h.ids[14], 100u);
     EXPECT_EQ(h.ids[15], 2u);
     EXPECT_FLOAT_EQ(h.sum(), 136.f - 1.f + 2.5f);
-    for (int i = 1; i < h.size(); ++i) EXPECT_GE(h.weights[i - 1], h.weights[i]);
+    for (int i = 1; i < h.size(); ++i) EXPECT_GE(h.weight(i - 1), h.weight(i));
 }
 
 TEST(SparseHistogram, TiesKeepTheOlderEntryFirst)

@@ -8,6 +8,7 @@
 #include <pndt/instance_rules.h>
 #include <pndt/mrpt/map_files.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -52,7 +53,7 @@ void expectSameState(const PanopticMap& a, const PanopticMap& b)
         const LabelRecord &x = a.labelRecords()[i], &y = b.labelRecords()[i];
         ASSERT_EQ(x.semantic.size(), y.semantic.size());
         EXPECT_EQ(0, std::memcmp(x.semantic.ids, y.semantic.ids, sizeof(x.semantic.ids)));
-        EXPECT_EQ(0, std::memcmp(x.semantic.weights, y.semantic.weights, sizeof(x.semantic.weights)));
+        for (int j = 0; j < x.semantic.size(); ++j) EXPECT_EQ(x.semantic.weight(j), y.semantic.weight(j));
         EXPECT_EQ(x.n_l, y.n_l);
         EXPECT_EQ(x.instances, y.instances);
     }
@@ -63,7 +64,7 @@ void expectSameState(const PanopticMap& a, const PanopticMap& b)
         const auto &x = a.instanceRecords()[i].hist, &y = b.instanceRecords()[i].hist;
         ASSERT_EQ(x.size(), y.size());
         EXPECT_EQ(0, std::memcmp(x.ids, y.ids, sizeof(x.ids)));
-        EXPECT_EQ(0, std::memcmp(x.weights, y.weights, sizeof(x.weights)));
+        for (int j = 0; j < x.size(); ++j) EXPECT_EQ(x.weight(j), y.weight(j));
     }
     EXPECT_EQ(a.nextInstanceId(), b.nextInstanceId());
     EXPECT_EQ(a.pairEvidence(), b.pairEvidence());
@@ -156,7 +157,10 @@ enum class LabelDamage
 {
     None,
     EmptyEntryInside,        ///< the first record claims one semantic entry more than it holds
-    UpdatesWithoutInstances  ///< a record without instance histogram counts instance updates
+    UpdatesWithoutInstances,  ///< a record without instance histogram counts instance updates
+    NaNWeight,                ///< the first record's strongest semantic weight is NaN
+    NegativeInstanceWeight,   ///< the first instance histogram's strongest weight is -1
+    WeightsOutOfOrder         ///< the first record with two semantic entries has its second above its first
 };
 
 /// The map's state in the version-0 layout (every voxel held its shape and its
@@ -204,12 +208,21 @@ std::vector<uint8_t> version0Payload(const PanopticNDTMap& m, LabelDamage damage
     a.WriteBufferFixEndianness(mean.data(), 3 * n);
     a.WriteBufferFixEndianness(m2.data(), 6 * n);
     const auto& recs = map.labelRecords();
+    const LabelRecord* firstWithTwo = nullptr;
+    for (const LabelRecord& r : recs)
+        if (!firstWithTwo && r.semantic.size() >= 2) firstWithTwo = &r;
     const size_t nl = recs.size();
     a << uint64_t(nl);
     for (const LabelRecord& r : recs)
         a << uint8_t(r.semantic.size() + (damage == LabelDamage::EmptyEntryInside && &r == &recs[0]));
     for (const LabelRecord& r : recs) a.WriteBuffer(r.semantic.ids, sizeof(r.semantic.ids));
-    for (const LabelRecord& r : recs) a.WriteBufferFixEndianness(r.semantic.weights, 8);
+    for (const LabelRecord& r : recs)
+        for (int j = 0; j < 8; ++j)
+        {
+            const bool nan = damage == LabelDamage::NaNWeight && &r == &recs[0] && j == 0;
+            const bool raised = damage == LabelDamage::WeightsOutOfOrder && &r == firstWithTwo && j == 1;
+            a << (nan ? std::nanf("") : raised ? r.semantic.weight(0) + 1.f : r.semantic.weight(j));
+        }
     for (const LabelRecord& r : recs) a << r.semantic.sum();
     for (const LabelRecord& r : recs) a << stuffMass(r, o.classes);
     for (const LabelRecord& r : recs) a << r.n_l;
@@ -222,7 +235,9 @@ std::vector<uint8_t> version0Payload(const PanopticNDTMap& m, LabelDamage damage
     a << uint64_t(irecs.size());
     for (const auto& r : irecs) a << uint8_t(r.hist.size());
     for (const auto& r : irecs) a.WriteBufferFixEndianness(r.hist.ids, 16);
-    for (const auto& r : irecs) a.WriteBufferFixEndianness(r.hist.weights, 16);
+    for (const auto& r : irecs)
+        for (int j = 0; j < 16; ++j)
+            a << (damage == LabelDamage::NegativeInstanceWeight && &r == &irecs[0] && j == 0 ? -1.f : r.hist.weight(j));
     for (const auto& r : irecs) a << r.hist.sum();
     const auto* p = static_cast<const uint8_t*>(mem.getRawBufferData());
     return {p, p + mem.getTotalBytesCount()};
@@ -287,6 +302,17 @@ TEST(PluginSerialization, DamagedHistogramsAreRejectedNamingTheRecord)
     const std::string e = read(version0Payload(*m, LabelDamage::UpdatesWithoutInstances));
     EXPECT_NE(e.find("counts 3 instance updates but has no instance histogram"), std::string::npos) << e;
     EXPECT_NE(e.find("truncated or corrupt"), std::string::npos) << e;
+    const std::string nan = read(version0Payload(*m, LabelDamage::NaNWeight));
+    EXPECT_NE(nan.find("label record 0 has a bad weight nan in entry 0"), std::string::npos) << nan;
+    const std::string negative = read(version0Payload(*m, LabelDamage::NegativeInstanceWeight));
+    EXPECT_NE(negative.find("instance record 0 has a bad weight -1 in entry 0"), std::string::npos) << negative;
+    const auto& recs = m->core().labelRecords();
+    size_t two = 0;
+    while (two < recs.size() && recs[two].semantic.size() < 2) ++two;
+    ASSERT_LT(two, recs.size());
+    const std::string order = read(version0Payload(*m, LabelDamage::WeightsOutOfOrder));
+    EXPECT_NE(order.find("label record " + std::to_string(two) + " has a bad weight"), std::string::npos) << order;
+    EXPECT_NE(order.find("in entry 1 of"), std::string::npos) << order;
 }
 
 TEST(PluginSerialization, TruncatedArchivesFailWithAMessage)

@@ -14,7 +14,9 @@
 // the stuff sum are then accumulated in registers - the same float additions in
 // the same order as one add() per pixel - and the entry is moved to its sorted
 // place once at the end of the run, which is where per-pixel sorting would have
-// left it (the other entries do not change during the run).
+// left it (the other entries do not change during the run). Float weights
+// then do not depend on where a run ends; quantised ones round once per run,
+// so runs end where the one-band walk's do.
 #include <algorithm>
 #include <type_traits>
 
@@ -34,14 +36,14 @@ void startRun(H& h, Id id, float score, uint32_t& updates, int& run_i, float& ru
     run_i = h.indexOf(id);
     if (run_i >= 0)
     {
-        run_w = h.weights[run_i] + score;
+        run_w = h.weight(run_i) + score;
         run_n = 1;
         return;
     }
     h.add(id, score);
     ++updates;
     run_i = h.indexOf(id);
-    run_w = h.weights[run_i];
+    run_w = h.weight(run_i);
     run_n = 0;
 }
 
@@ -54,18 +56,6 @@ inline void continueRun(bool take, float score, float& run_w, uint32_t& run_n, u
     updates += take;
 }
 
-/// Restores descending order after entry i grew (SparseHistogram::add's rule:
-/// ties keep the older entry first).
-template <typename H>
-void bubbleUp(H& h, int i)
-{
-    while (i > 0 && h.weights[i] > h.weights[i - 1])
-    {
-        std::swap(h.weights[i], h.weights[i - 1]);
-        std::swap(h.ids[i], h.ids[i - 1]);
-        --i;
-    }
-}
 }  // namespace
 
 void PanopticMap::updateHistograms(const PanopticFrame& f, FrameStats& st)
@@ -184,16 +174,16 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
 
     const auto flushSemantic = [&] {
         if (run_l == 0) return;
-        rec->semantic.weights[run_li] = run_lw;
+        rec->semantic.setWeight(run_li, run_lw);
         rec->n_l += run_nl;
-        bubbleUp(rec->semantic, run_li);
+        rec->semantic.bubbleUp(run_li);
         run_l = 0;
     };
     const auto flushInstance = [&] {
         if (run_z == 0) return;
-        inst->hist.weights[run_zi] = run_zw;
+        inst->hist.setWeight(run_zi, run_zw);
         inst->n_z += run_nz;
-        bubbleUp(inst->hist, run_zi);
+        inst->hist.bubbleUp(run_zi);
         run_z = 0;
     };
     const auto labelRecord = [&]() -> LabelRecord& {
@@ -297,7 +287,20 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
             {
                 if (span.begin >= i_end) break;
                 const uint32_t slot = slot_of[span.slot];
-                if (slot < home_begin || slot >= home_end) continue;  // another band's voxel
+                if (slot < home_begin || slot >= home_end)  // another band's voxel
+                {
+                    // Quantised weights round at each flush: end the runs where
+                    // the one-band walk would (it enters that voxel), so every
+                    // thread count stores the same bits.
+                    if constexpr (kQuantisedHistograms)
+                        if (cur >= 0)
+                        {
+                            flushSemantic();
+                            flushInstance();
+                            cur = -1;
+                        }
+                    continue;
+                }
                 if (int32_t(slot) != cur) enter(slot);
                 for (uint32_t i = span.begin; i < span.end; ++i) update(i, std::true_type{});
             }

@@ -324,12 +324,12 @@ void PanopticMap::renameInstances(const std::function<uint32_t(uint32_t)>& renam
     {
         auto& h = rec.hist;
         // Two ids may be renamed to one: merge their weights, keep the order.
-        SparseHistogram<uint32_t, 16> renamed;
+        InstanceHistogram renamed;
         for (int i = 0, n = h.size(); i < n; ++i)
         {
             const uint32_t id = rename(h.ids[i]);
             if (id == 0) throw std::invalid_argument("renameInstances: instance id 0 is reserved");
-            renamed.add(id, h.weights[i]);
+            renamed.add(id, h.weight(i));
             next_instance_id_ = std::max(next_instance_id_, id + 1);
         }
         h = renamed;

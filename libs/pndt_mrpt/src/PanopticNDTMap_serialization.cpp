@@ -22,6 +22,7 @@
 #include <pndt/instance_rules.h>
 #include <pndt/mrpt/PanopticNDTMap.h>
 
+#include <cmath>
 #include <cstring>
 
 using mrpt::serialization::CArchive;
@@ -94,6 +95,19 @@ int checkedEntries(uint8_t size, int capacity, const Id* ids, const char* what, 
     return size;
 }
 
+/// Sets a histogram's weights from the file: finite, >= 0 and in the
+/// histogram's order (largest first), or the record is damaged.
+template <typename H>
+void setCheckedWeights(H& h, int used, const float* w, const char* what, size_t index)
+{
+    for (int j = 0; j < used; ++j)
+    {
+        if (!(w[j] >= 0) || !std::isfinite(w[j]) || (j > 0 && w[j] > w[j - 1]))
+            throw std::runtime_error(fmt::format("{} {} has a bad weight {} in entry {} of {}", what, index, w[j], j, used));
+        h.setWeight(j, w[j]);
+    }
+}
+
 uint64_t readCount(CArchive& a, const char* what, uint64_t max)
 {
     uint64_t n = 0;
@@ -161,7 +175,7 @@ void PanopticNDTMap::serializeTo(CArchive& out) const
         const LabelRecord& r = recs[i];
         sem_size[i] = uint8_t(r.semantic.size());
         std::memcpy(&sem_ids[SC * i], r.semantic.ids, SC);
-        std::memcpy(&sem_w[SC * i], r.semantic.weights, SC * sizeof(float));
+        for (int j = 0; j < SC; ++j) sem_w[SC * i + size_t(j)] = r.semantic.weight(j);
         sem_sum[i] = r.semantic.sum();  // derived; kept in the format for its readers
         stuff[i] = stuffMass(r, map_.options().classes);
         n_l[i] = r.n_l;
@@ -189,7 +203,7 @@ void PanopticNDTMap::serializeTo(CArchive& out) const
         const auto& h = irecs[i].hist;
         i_size[i] = uint8_t(h.size());
         std::memcpy(&i_ids[IC * i], h.ids, IC * sizeof(uint32_t));
-        std::memcpy(&i_w[IC * i], h.weights, IC * sizeof(float));
+        for (int j = 0; j < IC; ++j) i_w[IC * i + size_t(j)] = h.weight(j);
         i_sum[i] = h.sum();
     }
     out << uint64_t(ni);
@@ -325,7 +339,7 @@ void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
                     LabelRecord& r = recs[i];
                     const int used = checkedEntries(sem_size[i], SC, &sem_ids[SC * i], "label record", i);
                     std::memcpy(r.semantic.ids, &sem_ids[SC * i], size_t(used));
-                    std::memcpy(r.semantic.weights, &sem_w[SC * i], size_t(used) * sizeof(float));
+                    setCheckedWeights(r.semantic, used, &sem_w[SC * i], "label record", i);
                     r.n_l = n_l[i];
                     r.instances = inst[i];
                 }
@@ -346,7 +360,7 @@ void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
                     auto& h = irecs[i].hist;
                     const int used = checkedEntries(i_size[i], IC, &i_ids[IC * i], "instance record", i);
                     std::memcpy(h.ids, &i_ids[IC * i], size_t(used) * sizeof(uint32_t));
-                    std::memcpy(h.weights, &i_w[IC * i], size_t(used) * sizeof(float));
+                    setCheckedWeights(h, used, &i_w[IC * i], "instance record", i);
                 }
                 // n^Z is stored with the label record (format v0-v3) and kept
                 // with the instance histogram, the only place it can grow.

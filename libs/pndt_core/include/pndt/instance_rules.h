@@ -11,7 +11,7 @@ inline float stuffMass(const LabelRecord& r, const ClassSet& classes)
 {
     float stuff = 0;
     for (int j = 0, n = r.semantic.size(); j < n; ++j)
-        if (!classes.isThing(r.semantic.ids[j])) stuff += r.semantic.weights[j];
+        if (!classes.isThing(r.semantic.ids[j])) stuff += r.semantic.weight(j);
     return stuff;
 }
 
@@ -26,15 +26,15 @@ inline bool isThing(const LabelRecord& r, const ClassSet& classes, double theta_
 /// isintopz(v, z): z belongs to the highest-weight entries that together hold at
 /// least theta_b of the mass, i.e. the ascending cumulative sum up to and
 /// including z's weight (all entries weighing <= w(z)) is >= (1 - theta_b) of it.
-inline bool isInTopZ(const SparseHistogram<uint32_t, 16>& h, uint32_t z, double theta_b)
+inline bool isInTopZ(const InstanceHistogram& h, uint32_t z, double theta_b)
 {
     const int i = h.indexOf(z);
     const float sum = h.sum();
     if (i < 0 || sum <= 0) return false;
-    const float wz = h.weights[i];
+    const float wz = h.weight(i);
     double cum = 0;
     for (int j = 0, n = h.size(); j < n; ++j)
-        if (h.weights[j] <= wz) cum += h.weights[j];
+        if (h.weight(j) <= wz) cum += h.weight(j);
     return cum >= (1.0 - theta_b) * double(sum);
 }
 
@@ -52,7 +52,7 @@ template <typename T>
 inline void addThingMass(const LabelRecord& r, const ClassSet& classes, T* per_class)
 {
     for (int j = 0, n = r.semantic.size(); j < n; ++j)
-        if (classes.isThing(r.semantic.ids[j])) per_class[r.semantic.ids[j]] += r.semantic.weights[j];
+        if (classes.isThing(r.semantic.ids[j])) per_class[r.semantic.ids[j]] += r.semantic.weight(j);
 }
 
 /// The thing class with the most mass in a voxel's own h^L, or 0 if it has none.
@@ -61,9 +61,9 @@ inline uint16_t ownThingClass(const LabelRecord& r, const ClassSet& classes)
     float best = 0;
     uint16_t c = 0;
     for (int j = 0, n = r.semantic.size(); j < n; ++j)
-        if (classes.isThing(r.semantic.ids[j]) && r.semantic.weights[j] > best)
+        if (classes.isThing(r.semantic.ids[j]) && r.semantic.weight(j) > best)
         {
-            best = r.semantic.weights[j];
+            best = r.semantic.weight(j);
             c = r.semantic.ids[j];
         }
     return c;

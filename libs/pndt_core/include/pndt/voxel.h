@@ -18,6 +18,19 @@ namespace pndt
 {
 constexpr uint32_t kNoRecord = std::numeric_limits<uint32_t>::max();
 
+// Histogram weights: floats (exact, default) or 16-bit with a shared scale
+// (CMake option PNDT_QUANTISED_HISTOGRAMS: 12 bytes less per label record, 28
+// per instance record; accuracy in doc/results.md, memory in doc/benchmarks.md).
+#ifdef PNDT_QUANTISED_HISTOGRAMS
+constexpr bool kQuantisedHistograms = true;
+template <int Capacity>
+using HistogramWeights = QuantisedWeights<Capacity>;
+#else
+constexpr bool kQuantisedHistograms = false;
+template <int Capacity>
+using HistogramWeights = FloatWeights<Capacity>;
+#endif
+
 struct Voxel
 {
     float occ = 0;                 ///< occupancy log-odds, clamped
@@ -37,7 +50,7 @@ struct SurfaceRecord
 struct LabelRecord
 {
     static constexpr int kSemanticCapacity = 8;
-    SparseHistogram<uint8_t, kSemanticCapacity> semantic;
+    SparseHistogram<uint8_t, kSemanticCapacity, HistogramWeights<kSemanticCapacity>> semantic;
     uint32_t n_l = 0;
     uint32_t instances = kNoRecord;  ///< index into the InstanceRecord pool
 };
@@ -45,14 +58,17 @@ struct LabelRecord
 /// Sparse instance histogram h^Z: at most 16 (id, weight) entries, and its
 /// update counter n^Z (here, not in the LabelRecord: only voxels with an
 /// instance histogram ever count instance updates).
+using InstanceHistogram = SparseHistogram<uint32_t, 16, HistogramWeights<16>>;
 struct InstanceRecord
 {
-    SparseHistogram<uint32_t, 16> hist;
+    InstanceHistogram hist;
     uint32_t n_z = 0;
 };
 
 // Most of a map's memory (doc/benchmarks.md): keep an eye on padding.
-static_assert(sizeof(SurfaceRecord) == 44 && sizeof(LabelRecord) == 48 && sizeof(InstanceRecord) == 132);
+static_assert(sizeof(SurfaceRecord) == 44);
+static_assert(kQuantisedHistograms ? sizeof(LabelRecord) == 36 && sizeof(InstanceRecord) == 104
+                                   : sizeof(LabelRecord) == 48 && sizeof(InstanceRecord) == 132);
 
 /// Propagated panoptic label <semantic, instance> (instance 0 = none).
 struct PanopticLabel
