@@ -83,6 +83,17 @@ TEST(QuantisedWeights, LongSumsOfSmallUpdatesStayWithinAFractionOfAPercent)
     EXPECT_NEAR(f.weight(0) / exact1, 1.0, 2e-3);
 }
 
+TEST(QuantisedWeights, TheLargestFiniteWeightsAreStoredToSixteenBits)
+{
+    QuantisedHist h;  // e.g. read from a map file: any finite weight >= 0 is accepted
+    h.add(1, 3e38f);
+    h.add(2, 1.f);  // far below the step: 0
+    EXPECT_EQ(h.weights.exponent, 112);  // 3e38 < 2^128 = 2^16 * 2^112
+    EXPECT_NEAR(h.weight(0) / 3e38f, 1.f, 1.f / 32768.f);
+    EXPECT_EQ(h.weight(1), 0.f);
+    EXPECT_EQ(h.ids[1], 2);
+}
+
 TEST(QuantisedWeights, TheSameWritesGiveTheSameBits)
 {
     QuantisedHist a, b;

@@ -15,6 +15,8 @@
 // stored, ties keep the older entry first.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <utility>
@@ -56,15 +58,18 @@ struct QuantisedWeights
     void set(int i, float v)
     {
         float q = v * pow2(-exponent);
-        if (q > float(kMaxMantissa))
+        if (q > float(kMaxMantissa))  // rare: the scale grows (q may be inf here)
         {
-            int k = 0;
-            while (q > float(kMaxMantissa))
+            int bits = 0;
+            std::frexp(v, &bits);  // v < 2^bits
+            int e = std::max(int(exponent), bits - 16);
+            q = std::ldexp(v, -e);
+            if (q > float(kMaxMantissa))
             {
+                ++e;
                 q *= 0.5f;
-                ++k;
             }
-            rescale(k);
+            rescale(e - exponent);
         }
         // In 1/512 steps (exact: q <= 65535). The dither (2d + 1)/512 is a
         // Weyl sequence (40503 / 2^16 ~ the golden ratio) over the writes: d
@@ -95,7 +100,7 @@ struct QuantisedWeights
     }
 
 private:
-    /// Halves every entry k times (rounding to nearest) and grows the scale.
+    /// Halves every entry k (>= 1) times, rounding to nearest, and grows the scale.
     void rescale(int k)
     {
         for (auto& x : m)
