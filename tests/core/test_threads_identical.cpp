@@ -85,7 +85,7 @@ void expectIdentical(const Built& a, const Built& b)
         const LabelRecord &p = x.labelRecords()[i], &q = y.labelRecords()[i];
         ASSERT_EQ(p.semantic.size(), q.semantic.size()) << i;
         EXPECT_EQ(0, std::memcmp(p.semantic.ids, q.semantic.ids, sizeof(p.semantic.ids)));
-        for (int j = 0; j < p.semantic.size(); ++j) EXPECT_EQ(p.semantic.weight(j), q.semantic.weight(j));
+        EXPECT_TRUE(p.semantic.weights == q.semantic.weights) << i;
         EXPECT_EQ(p.n_l, q.n_l);
         EXPECT_EQ(p.instances, q.instances);
     }
@@ -96,7 +96,7 @@ void expectIdentical(const Built& a, const Built& b)
         const auto &p = x.instanceRecords()[i].hist, &q = y.instanceRecords()[i].hist;
         ASSERT_EQ(p.size(), q.size());
         EXPECT_EQ(0, std::memcmp(p.ids, q.ids, sizeof(p.ids)));
-        for (int j = 0; j < p.size(); ++j) EXPECT_EQ(p.weight(j), q.weight(j));
+        EXPECT_TRUE(p.weights == q.weights) << i;
     }
     EXPECT_EQ(x.nextInstanceId(), y.nextInstanceId());
     const FrameStats &s = a.totals, &t = b.totals;

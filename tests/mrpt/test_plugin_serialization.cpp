@@ -20,6 +20,13 @@ namespace fs = std::filesystem;
 
 namespace
 {
+uint32_t floatBits(float f)
+{
+    uint32_t b;
+    std::memcpy(&b, &f, sizeof b);
+    return b;
+}
+
 /// A map with geometry, semantics and instances from a few viewpoints.
 PanopticNDTMap::Ptr labelledMap()
 {
@@ -53,7 +60,10 @@ void expectSameState(const PanopticMap& a, const PanopticMap& b)
         const LabelRecord &x = a.labelRecords()[i], &y = b.labelRecords()[i];
         ASSERT_EQ(x.semantic.size(), y.semantic.size());
         EXPECT_EQ(0, std::memcmp(x.semantic.ids, y.semantic.ids, sizeof(x.semantic.ids)));
-        for (int j = 0; j < x.semantic.size(); ++j) EXPECT_EQ(x.semantic.weight(j), y.semantic.weight(j));
+        // Every entry's weight to the bit (the file holds weights, not a
+        // quantised histogram's dither phase).
+        for (int j = 0; j < LabelRecord::kSemanticCapacity; ++j)
+            EXPECT_EQ(floatBits(x.semantic.weight(j)), floatBits(y.semantic.weight(j))) << i << " " << j;
         EXPECT_EQ(x.n_l, y.n_l);
         EXPECT_EQ(x.instances, y.instances);
     }
@@ -64,7 +74,8 @@ void expectSameState(const PanopticMap& a, const PanopticMap& b)
         const auto &x = a.instanceRecords()[i].hist, &y = b.instanceRecords()[i].hist;
         ASSERT_EQ(x.size(), y.size());
         EXPECT_EQ(0, std::memcmp(x.ids, y.ids, sizeof(x.ids)));
-        for (int j = 0; j < x.size(); ++j) EXPECT_EQ(x.weight(j), y.weight(j));
+        for (int j = 0; j < InstanceHistogram::kCapacity; ++j)
+            EXPECT_EQ(floatBits(x.weight(j)), floatBits(y.weight(j))) << i << " " << j;
     }
     EXPECT_EQ(a.nextInstanceId(), b.nextInstanceId());
     EXPECT_EQ(a.pairEvidence(), b.pairEvidence());

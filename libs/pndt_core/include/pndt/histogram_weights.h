@@ -38,6 +38,8 @@ struct FloatWeights
         for (int i = 0; i < n; ++i) s += w[i];
         return s;
     }
+    /// The same stored bits.
+    bool operator==(const FloatWeights& o) const { return std::memcmp(w, o.w, sizeof w) == 0; }
 };
 
 template <int Capacity>
@@ -82,6 +84,11 @@ struct QuantisedWeights
     }
     bool greater(int i, int j) const { return m[i] > m[j]; }
     void swapEntries(int i, int j) { std::swap(m[i], m[j]); }
+    /// The same stored state, the dither's phase included.
+    bool operator==(const QuantisedWeights& o) const
+    {
+        return std::memcmp(m, o.m, sizeof m) == 0 && exponent == o.exponent && writes == o.writes;
+    }
     float sum(int n) const
     {
         uint32_t s = 0;
