@@ -2,6 +2,7 @@
 // with a message naming the file and the object, never with libjpeg's exit().
 // ReadAheadStream: the same observations and stop reason, read on a thread.
 #include <gtest/gtest.h>
+#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationRobotPose.h>
@@ -20,6 +21,9 @@ namespace
 /// Two frames (robot pose + scan with a JPEG-compressed colour image).
 std::string writeColourRawlog(const fs::path& path)
 {
+    // MRPT 2.5 stores colour images raw unless told otherwise (as pndt-convert does).
+    const bool was_disabled = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
+    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(false);
     {
         mrpt::io::CFileGZOutputStream out(path.string());
         auto ar = mrpt::serialization::archiveFrom(out);
@@ -42,6 +46,7 @@ std::string writeColourRawlog(const fs::path& path)
             ar << scan;
         }
     }
+    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(was_disabled);
     std::ifstream in(path, std::ios::binary);
     return {std::istreambuf_iterator<char>(in), {}};
 }
@@ -80,6 +85,63 @@ TEST(ObservationStream, ACutAnywhereStopsWithAMessageNamingTheFile)
     }
     std::printf("[measured] %d cuts of a %zu-byte rawlog, %d reported as truncated\n", cuts, bytes.size(), truncated);
     EXPECT_GE(truncated, cuts * 9 / 10);  // a cut at the end of an object may end cleanly
+    fs::remove_all(dir);
+}
+
+/// The decompressed bytes of a rawlog, and a rawlog written from such bytes.
+std::string readDecompressed(const fs::path& path)
+{
+    mrpt::io::CFileGZInputStream in(path.string());
+    std::string out;
+    char buf[4096];
+    for (size_t got; (got = in.Read(buf, sizeof(buf))) > 0 && got <= sizeof(buf);) out.append(buf, got);
+    return out;
+}
+void writeCompressed(const fs::path& path, const std::string& bytes)
+{
+    mrpt::io::CFileGZOutputStream out(path.string());
+    out.Write(bytes.data(), bytes.size());
+}
+
+TEST(ObservationStream, ACorruptJpegColourImageStopsWithAMessageNotTheProcess)
+{
+    const fs::path dir = fs::temp_directory_path() / ("pndt_obs_jpeg_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    writeColourRawlog(dir / "whole.rawlog");
+    const std::string plain = readDecompressed(dir / "whole.rawlog");
+    // The second scan's JPEG (object #4): SOI, then APP0 with its 16-byte length.
+    const size_t first = plain.find("\xFF\xD8\xFF\xE0");
+    const size_t second = plain.find("\xFF\xD8\xFF\xE0", first + 1);
+    ASSERT_NE(second, std::string::npos);
+    ASSERT_EQ(plain.substr(second + 4, 2), std::string("\x00\x10", 2));
+
+    const auto read = [&](const std::string& bytes, std::vector<double>& stamps) {
+        writeCompressed(dir / "damaged.rawlog", bytes);
+        pndt::app::ObservationStream in((dir / "damaged.rawlog").string());
+        stamps.clear();
+        while (auto o = in.next()) stamps.push_back(mrpt::Clock::toDouble(o->timestamp));
+        return in.truncated() ? in.stopReason() : std::string();
+    };
+    std::vector<double> stamps;
+    ASSERT_EQ(read(plain, stamps), "");  // the round trip through our writer is a valid file
+    EXPECT_EQ(stamps.size(), 4u);
+
+    // Bytes libjpeg cannot decode behind the SOI: "Quantization table 0x00 was
+    // not defined", which its default error handler (MRPT's) answers with exit().
+    std::string garbage = plain;
+    for (size_t i = second + 2; i < second + 40; ++i) garbage[i] = char(0x5A);
+    const std::string reason = read(garbage, stamps);
+    EXPECT_EQ(stamps, (std::vector<double>{100.0, 100.0, 101.0}));
+    EXPECT_NE(reason.find((dir / "damaged.rawlog").string()), std::string::npos) << reason;
+    EXPECT_NE(reason.find("at object #4"), std::string::npos) << reason;
+    EXPECT_NE(reason.find("JPEG bytes are corrupt"), std::string::npos) << reason;
+
+    // Damage libjpeg recovers from with a warning (an APP0 length of 1: it
+    // skips to the next marker) is no reason to stop: MRPT decodes the image.
+    std::string recoverable = plain;
+    recoverable[second + 5] = '\x01';
+    EXPECT_EQ(read(recoverable, stamps), "");
+    EXPECT_EQ(stamps.size(), 4u);
     fs::remove_all(dir);
 }
 

@@ -1,6 +1,7 @@
 #include <fmt/format.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CSensoryFrame.h>
+#include <opencv2/imgcodecs.hpp>
 #include <pndt/app/observation_stream.h>
 
 #include <cstring>
@@ -14,6 +15,11 @@ namespace pndt::app
 /// count, and CImage ignores a short read of a colour image's JPEG bytes and
 /// decodes the half-filled buffer, where libjpeg's default error handler calls
 /// exit() ("Bogus marker length"): thrown here, the cut shows as a truncated file.
+/// Whole but corrupt JPEG bytes reach the same exit() ("Quantization table 0x00
+/// was not defined"): a colour image's bytes (CImage reads a 4-byte length, then
+/// that many bytes starting with the JPEG SOI marker) are first decoded here at
+/// 1/8 scale by OpenCV, through the same libjpeg with an error handler that
+/// returns; what it cannot decode is thrown as a corrupt image.
 class ObservationStream::GuardedInput : public mrpt::io::CStream
 {
    public:
@@ -27,6 +33,12 @@ class ObservationStream::GuardedInput : public mrpt::io::CStream
         position_ += got;
         if (got < count && !(got == 0 && position_ == object_start_))
             throw std::runtime_error(fmt::format("the file ends {} bytes into the object", position_ - object_start_));
+        const auto* bytes = static_cast<const uint8_t*>(buffer);
+        if (count == last_length_ && count >= 2 && bytes[0] == 0xFF && bytes[1] == 0xD8 && !decodes(bytes, count))
+            throw std::runtime_error(fmt::format("a colour image's {} JPEG bytes are corrupt (libjpeg cannot decode them)", count));
+        uint32_t length = 0;
+        if (got == sizeof(length)) std::memcpy(&length, buffer, sizeof(length));  // rawlogs are little-endian
+        last_length_ = got == sizeof(length) ? length : ~uint64_t(0);
         return got;
     }
     size_t Write(const void*, size_t) override { throw std::logic_error("ObservationStream is read-only"); }
@@ -35,8 +47,22 @@ class ObservationStream::GuardedInput : public mrpt::io::CStream
     uint64_t getPosition() const override { return position_; }
 
    private:
+    static bool decodes(const uint8_t* bytes, size_t count)
+    {
+        const cv::Mat encoded(1, int(count), CV_8UC1, const_cast<uint8_t*>(bytes));
+        try
+        {
+            return !cv::imdecode(encoded, cv::IMREAD_REDUCED_COLOR_8).empty();
+        }
+        catch (const cv::Exception&)
+        {
+            return false;
+        }
+    }
+
     mrpt::io::CFileGZInputStream& in_;
     uint64_t position_ = 0, object_start_ = 0;
+    uint64_t last_length_ = ~uint64_t(0);  ///< the value of the last read if it was 4 bytes
 };
 
 ObservationStream::ObservationStream(const std::string& path) : path_(path)
