@@ -228,6 +228,7 @@ TEST(ProjectionKernels, EverySimdVersionGivesTheScalarBits)
     std::uniform_int_distribution<int> special(0, 12);
     std::vector<ProjectRowFn> kernels = {&projectRowSse2};
     if (ProjectRowFn avx2 = projectRowAvx2()) kernels.push_back(avx2);
+    if (ProjectRowFn avx512 = projectRowAvx512()) kernels.push_back(avx512);
     size_t outside = 0, checked = 0;
     for (int trial = 0; trial < 40; ++trial)
     {

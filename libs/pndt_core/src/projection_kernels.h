@@ -1,8 +1,8 @@
 // First phase of the pixel projection, one image row at a time: per pixel its
 // packed voxel key (or a special key) and its sample's quantised offset inside
-// the voxel. Branch-free, in a scalar, an SSE2 and an AVX2 version that give
-// the same bits (the same double operations, no fused multiply-add), chosen at
-// run time.
+// the voxel. Branch-free, in a scalar, an SSE2, an AVX2 and an AVX-512 version
+// that give the same bits (the same double operations, no fused multiply-add),
+// chosen at run time.
 #pragma once
 
 #include <cstddef>
@@ -63,6 +63,8 @@ void projectRowScalar(const ProjectionSetup& P, const double* row_a, const float
 void projectRowSse2(const ProjectionSetup& P, const double* row_a, const float* depth, int c0, int c1, RowBuffer& out);
 /// nullptr when the CPU (or the compiler) has no AVX2.
 ProjectRowFn projectRowAvx2();
+/// nullptr when the CPU (or the compiler) has no AVX-512 F and DQ.
+ProjectRowFn projectRowAvx512();
 /// The fastest version this CPU runs.
 ProjectRowFn bestProjectRow();
 
