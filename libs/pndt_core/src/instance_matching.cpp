@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "map_scratch.h"
+#include "predicted_pixels.h"
 
 namespace pndt
 {
@@ -20,46 +21,10 @@ inline int clampedInt(double x) { return int(std::max(-1.0e9, std::min(1.0e9, x)
 void PanopticMap::predictedBand(const PanopticFrame& f, int band, int bands)
 {
     Scratch& s = *scratch_;
-    PredictedBand& pb = s.predicted_bands[size_t(band)];
-    pb.index.clear();
-    pb.ids.clear();
-    pb.area.clear();
-    pb.cls.clear();
     const int W = f.depth.width, H = f.depth.height;
     const size_t i0 = size_t(H * band / bands) * W, i1 = size_t(H * (band + 1) / bands) * W;
-    const uint32_t* ids = f.instance.data.data();
-    const uint16_t* sem = f.hasLabels() ? f.semantic.data.data() : nullptr;
-    const int32_t* slots = s.pixel_slot.data();
-    int32_t* predicted = s.pixel_predicted.data();
-    uint32_t last_id = 0;
-    int32_t last_local = -1;
-    uint64_t run = 0;  // pixels of last_local not yet counted
-    for (size_t i = i0; i < i1; ++i)
-    {
-        const uint32_t id = ids[i];
-        if (id == 0 || slots[i] < 0)
-        {
-            predicted[i] = slots[i] < 0 ? kUnmappedPixel : -1;
-            continue;
-        }
-        if (id != last_id)  // runs of one instance along a row
-        {
-            if (last_local >= 0) pb.area[size_t(last_local)] += run;
-            run = 0;
-            const auto [it, inserted] = pb.index.try_emplace(id, uint32_t(pb.ids.size()));
-            if (inserted)
-            {
-                pb.ids.push_back(id);
-                pb.area.push_back(0);
-                pb.cls.push_back(sem ? sem[i] : 0);  // Eq. 1: one class per predicted instance
-            }
-            last_id = id;
-            last_local = int32_t(it->second);
-        }
-        predicted[i] = last_local;
-        ++run;
-    }
-    if (last_local >= 0) pb.area[size_t(last_local)] += run;
+    assignPredicted(f.instance.data.data(), f.hasLabels() ? f.semantic.data.data() : nullptr, s.pixel_slot.data(),
+                    s.pixel_predicted.data(), i0, i1, s.predicted_bands[size_t(band)], bestContinueInstance());
 }
 
 void PanopticMap::matchInstances(const PanopticFrame& f, const Pose& T, FrameStats& st)
