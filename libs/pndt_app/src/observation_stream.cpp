@@ -4,6 +4,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <pndt/app/observation_stream.h>
 
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 
@@ -34,8 +35,10 @@ class ObservationStream::GuardedInput : public mrpt::io::CStream
         if (got < count && !(got == 0 && position_ == object_start_))
             throw std::runtime_error(fmt::format("the file ends {} bytes into the object", position_ - object_start_));
         const auto* bytes = static_cast<const uint8_t*>(buffer);
-        if (count == last_length_ && count >= 2 && bytes[0] == 0xFF && bytes[1] == 0xD8 && !decodes(bytes, count))
-            throw std::runtime_error(fmt::format("a colour image's {} JPEG bytes are corrupt (libjpeg cannot decode them)", count));
+        if (count == last_length_ && count >= 2 && count <= size_t(INT32_MAX) && bytes[0] == 0xFF && bytes[1] == 0xD8 &&
+            !decodes(bytes, count))
+            throw std::runtime_error(
+                fmt::format("a colour image's {} JPEG bytes are corrupt (libjpeg cannot decode them)", count));
         uint32_t length = 0;
         if (got == sizeof(length)) std::memcpy(&length, buffer, sizeof(length));  // rawlogs are little-endian
         last_length_ = got == sizeof(length) ? length : ~uint64_t(0);

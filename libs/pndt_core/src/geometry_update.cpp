@@ -250,7 +250,7 @@ void PanopticMap::projectBand(const PanopticFrame& f, const Pose& T, int b, int 
         int32_t run_slot = -1;
         // The voxel before the current run's: a surface on a voxel face
         // alternates two voxels pixel by pixel. At 1024x768 @ 10 cm runs are
-        // ~5 pixels, and 3 in 5 of those the pixel above does not resolve
+        // ~5 pixels; of the runs the pixel above does not resolve, 3 in 5
         // return to the voxel before: no table lookup for them.
         uint64_t prev_key = kNoKey;
         int32_t prev_slot = -1;
