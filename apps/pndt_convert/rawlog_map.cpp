@@ -4,6 +4,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <pndt/app/observation_stream.h>
+#include <pndt/look_at.h>
 #include <pndt/mrpt/map_files.h>
 #include <pndt/mrpt/observation_frame.h>
 
@@ -141,21 +142,6 @@ cv::Mat renderHeightView(const PanopticMap& map, const Pose& T, const CameraIntr
     return img;
 }
 
-Pose lookAtCamera(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, const Eigen::Vector3d& up)
-{
-    const Eigen::Vector3d z = (target - eye).normalized();
-    Eigen::Vector3d x = z.cross(up);  // optical x = right; y = down
-    if (x.norm() < 1e-9) x = z.unitOrthogonal();
-    x.normalize();
-    const Eigen::Vector3d y = z.cross(x);
-    Pose T = Pose::Identity();
-    T.linear().col(0) = x;
-    T.linear().col(1) = y;
-    T.linear().col(2) = z;
-    T.translation() = eye;
-    return T;
-}
-
 std::pair<double, double> heightRange(const PanopticMap& map, const Eigen::Vector3d& up)
 {
     std::vector<double> h;
@@ -199,7 +185,9 @@ Pose overviewCamera(const PanopticMap& map, const std::vector<Pose>& cameras, co
     const double dist = 0.85 * radius / std::sin(half_fov);
     const double el = elevation_deg * M_PI / 180.0;
     const Eigen::Vector3d eye = centre - fwd * dist * std::cos(el) + up * dist * std::sin(el);
-    return lookAtCamera(eye, centre, up);
+    // Looking straight down (elevation 90 degrees), the image's "up" is the forward direction.
+    const bool straight_down = (centre - eye).normalized().cross(up).norm() < 1e-9;
+    return lookAt(eye, centre, straight_down ? fwd : up);
 }
 
 DepthAgreement compareDepth(const Image<float>& measured, const Image<float>& rendered, double abs_tol,

@@ -60,9 +60,6 @@ Pose overviewCamera(const PanopticMap& map, const std::vector<Pose>& cameras, co
 /// Robust height range (2–98 %) of the occupied voxel centres along `up`.
 std::pair<double, double> heightRange(const PanopticMap& map, const Eigen::Vector3d& up);
 
-/// Optical camera looking from `eye` at `target`, image "up" as close to `up` as possible.
-Pose lookAtCamera(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, const Eigen::Vector3d& up);
-
 /// Measured vs rendered depth over the pixels with a valid measurement.
 struct DepthAgreement
 {

@@ -437,3 +437,29 @@ TEST_F(ConvertRedwood, MappingTheRawlogBackSaysWhereADamagedFileStops)
         EXPECT_NE(what.find("truncated or corrupt at object #"), std::string::npos) << what;
     }
 }
+
+TEST(OverviewCamera, LooksAtTheMapFromTheGivenElevationAndStraightDown)
+{
+    // A wall 2 m in front of an identity camera; world "up" is the optical -y.
+    MapOptions o;
+    o.voxel_size = 0.1;
+    PanopticMap map(o);
+    PanopticFrame f;
+    f.K = {32, 24, 20.0, 20.0, 15.5, 11.5};
+    f.depth.resize(32, 24, 2.0f);
+    for (int i = 0; i < 3; ++i) map.integrate(f, Pose::Identity());
+    ASSERT_GT(map.occupiedCount(), 0u);
+    const Eigen::Vector3d up(0, -1, 0);
+    const std::vector<Pose> cameras = {Pose::Identity()};
+    for (const double elevation : {50.0, 90.0})
+    {
+        const Pose T = overviewCamera(map, cameras, up, f.K, elevation);
+        const Eigen::Vector3d z = T.linear().col(2), x = T.linear().col(0), y = T.linear().col(1);
+        EXPECT_NEAR(-z.dot(up), std::sin(elevation * M_PI / 180.0), 1e-9) << elevation;  // looking down by it
+        EXPECT_NEAR(x.dot(z), 0.0, 1e-12);
+        EXPECT_NEAR(y.dot(z), 0.0, 1e-12);
+        EXPECT_NEAR(x.cross(y).dot(z), 1.0, 1e-12);  // a rotation
+        if (elevation < 90) EXPECT_NEAR(x.dot(up), 0.0, 1e-12);  // horizon level
+        else EXPECT_NEAR(-y.dot(Eigen::Vector3d(0, 0, 1)), 1.0, 1e-9);  // straight down: image up = forward
+    }
+}

@@ -1,30 +1,10 @@
-// lookAt and orbit camera paths.
+// Orbit camera paths.
 #include "pndt/sim/trajectory.h"
 
 #include <cmath>
 
 namespace pndt::sim
 {
-Pose lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, const Eigen::Vector3d& up)
-{
-    const Eigen::Vector3d view = target - eye;
-    const double len = view.norm();
-    if (!(len > 0)) throw InputError("lookAt: eye and target coincide");
-    const Eigen::Vector3d z = view / len;
-    Eigen::Vector3d x = z.cross(up);
-    const double xn = x.norm();
-    if (!(xn > 1e-12 * up.norm()) || !(up.norm() > 0))
-        throw InputError("lookAt: viewing direction parallel to the up vector");
-    x /= xn;
-    const Eigen::Vector3d y = z.cross(x);
-    Pose T = Pose::Identity();
-    T.linear().col(0) = x;
-    T.linear().col(1) = y;
-    T.linear().col(2) = z;
-    T.translation() = eye;
-    return T;
-}
-
 std::vector<Pose> orbit(const Eigen::Vector3d& center, double radius, double eye_height,
                         double target_height, int n_frames, double start_angle_rad,
                         double sweep_rad)

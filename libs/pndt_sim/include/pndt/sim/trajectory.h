@@ -4,17 +4,15 @@
 #include <Eigen/Geometry>
 #include <vector>
 
+#include "pndt/look_at.h"
 #include "pndt/types.h"
 
 namespace pndt::sim
 {
 constexpr double kTwoPi = 6.283185307179586476925286766559;
 
-/// T_world_cam of a camera at `eye` whose optical z axis points at `target`, with its
-/// x axis perpendicular to `up` (horizontal for up = world z) and its y axis pointing
-/// "down" (y . up < 0). Throws InputError if eye == target or the view is parallel to up.
-Pose lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
-            const Eigen::Vector3d& up = Eigen::Vector3d::UnitZ());
+/// pndt::lookAt (pndt/look_at.h), where synthetic sequences have always found it.
+using pndt::lookAt;
 
 /// `n_frames` poses on a horizontal circle of `radius` around `center`, each looking at
 /// the circle's axis. Heights are relative to center.z(): eye at center.z() + eye_height,
