@@ -1,8 +1,6 @@
 #include "predicted_pixels.h"
 
 #include <algorithm>
-#include <cstdlib>
-#include <string>
 
 #if defined(__x86_64__) || defined(_M_X64)
 #include <immintrin.h>
@@ -98,11 +96,7 @@ ContinueInstanceFn continueInstanceAvx512() { return nullptr; }
 
 ContinueInstanceFn bestContinueInstance()
 {
-    static const ContinueInstanceFn best = []() -> ContinueInstanceFn {
-        const char* e = std::getenv("PNDT_PROJECTION_KERNEL");
-        const std::string forced = e ? e : "";
-        return forced == "scalar" || forced == "sse2" || forced == "avx2" ? nullptr : continueInstanceAvx512();
-    }();
+    static const ContinueInstanceFn best = simdCap() == SimdCap::Avx512 ? continueInstanceAvx512() : nullptr;
     return best;
 }
 

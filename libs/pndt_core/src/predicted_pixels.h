@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "map_scratch.h"
+#include "projection_kernels.h"
 
 namespace pndt
 {
@@ -19,7 +20,7 @@ using ContinueInstanceFn = size_t (*)(const uint32_t* ids, const int32_t* slots,
                                       uint32_t id, int32_t local, uint64_t& run);
 /// nullptr when the CPU (or the compiler) has no AVX-512 F.
 ContinueInstanceFn continueInstanceAvx512();
-/// The fastest version this CPU runs; nullptr (no fast path) with PNDT_PROJECTION_KERNEL=scalar|sse2|avx2.
+/// The fastest version this CPU runs within simdCap(); nullptr: no fast path.
 ContinueInstanceFn bestContinueInstance();
 
 /// Pixels [i0, i1) of the image into `pb` (cleared first): ids, areas (mapped

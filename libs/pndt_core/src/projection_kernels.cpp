@@ -228,17 +228,27 @@ ProjectRowFn projectRowAvx2() { return nullptr; }
 ProjectRowFn projectRowAvx512() { return nullptr; }
 #endif
 
+SimdCap simdCap()
+{
+    static const SimdCap cap = [] {
+        const char* e = std::getenv("PNDT_PROJECTION_KERNEL");
+        const std::string forced = e ? e : "";
+        return forced == "scalar" ? SimdCap::Scalar
+               : forced == "sse2" ? SimdCap::Sse2
+               : forced == "avx2" ? SimdCap::Avx2
+                                  : SimdCap::Avx512;
+    }();
+    return cap;
+}
+
 ProjectRowFn bestProjectRow()
 {
     static const ProjectRowFn best = []() -> ProjectRowFn {
-        // PNDT_PROJECTION_KERNEL=scalar|sse2|avx2 forces a slower version (tests, measurements).
-        const char* e = std::getenv("PNDT_PROJECTION_KERNEL");
-        const std::string forced = e ? e : "";
-        if (forced == "scalar") return &projectRowScalar;
-        if (forced == "sse2") return &projectRowSse2;
-        if (const ProjectRowFn avx512 = projectRowAvx512(); avx512 && forced != "avx2") return avx512;
-        const ProjectRowFn avx2 = projectRowAvx2();
-        return avx2 ? avx2 : &projectRowSse2;
+        const SimdCap cap = simdCap();
+        if (cap == SimdCap::Scalar) return &projectRowScalar;
+        if (const ProjectRowFn avx512 = projectRowAvx512(); avx512 && cap == SimdCap::Avx512) return avx512;
+        if (const ProjectRowFn avx2 = projectRowAvx2(); avx2 && cap >= SimdCap::Avx2) return avx2;
+        return &projectRowSse2;
     }();
     return best;
 }

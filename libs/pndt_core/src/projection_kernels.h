@@ -65,7 +65,17 @@ void projectRowSse2(const ProjectionSetup& P, const double* row_a, const float* 
 ProjectRowFn projectRowAvx2();
 /// nullptr when the CPU (or the compiler) has no AVX-512 F and DQ.
 ProjectRowFn projectRowAvx512();
-/// The fastest version this CPU runs.
+/// The widest SIMD the per-pixel kernels may use (if the CPU has it):
+/// PNDT_PROJECTION_KERNEL=scalar|sse2|avx2 caps it, for tests and measurements.
+enum class SimdCap
+{
+    Scalar,
+    Sse2,
+    Avx2,
+    Avx512
+};
+SimdCap simdCap();
+/// The fastest version this CPU runs, within simdCap().
 ProjectRowFn bestProjectRow();
 
 }  // namespace pndt
