@@ -83,7 +83,8 @@ size_t peakRssBytes()
 int main(int argc, char** argv)
 {
     CLI::App app{"pndt-map: replay a rawlog into short-term panoptic NDT maps"};
-    std::string input, out_dir = "out/map", preset, poses, pose_format;
+    std::string input, out_dir = "out/map", poses, pose_format;
+    std::vector<std::string> presets;
     std::vector<std::string> configs, sets;
     double period = -1, voxel_size = 0;
     int max_frames = 0;
@@ -100,8 +101,11 @@ int main(int argc, char** argv)
     app.add_option("--predictions", dataset.predictions, "nicr: EMSANet mapping export (labels)");
     app.add_flag("--gt-labels", dataset.ground_truth_labels, "nicr: ground truth as labels");
     app.add_option("-o,--out", out_dir, "output folder")->capture_default_str();
-    app.add_option("-p,--preset", preset, "threshold preset from config/presets")
-        ->check(CLI::IsMember({"scannet", "hypersim", "realworld"}));
+    app.add_option("-p,--preset", presets,
+                   "preset from config/presets, layered in the order given (repeatable or comma-separated; "
+                   "paper = the paper's rules exactly)")
+        ->delimiter(',')
+        ->check(CLI::IsMember({"scannet", "hypersim", "realworld", "paper"}));
     app.add_option("-c,--config", configs, ".ini files layered over the defaults (repeatable)");
     app.add_option("-s,--set", sets, "override: section.key=value (repeatable)");
     app.add_option("--poses", poses, "external pose file (sets pose_source=file)");
@@ -121,7 +125,7 @@ int main(int argc, char** argv)
     {
         // ---- configuration: defaults, preset, user files, then overrides
         std::vector<std::string> files = {configDir() + "/panoptic_ndt.ini", configDir() + "/pndt_map.ini"};
-        if (!preset.empty()) files.push_back(configDir() + "/presets/" + preset + ".ini");
+        for (const auto& preset : presets) files.push_back(configDir() + "/presets/" + preset + ".ini");
         files.insert(files.end(), configs.begin(), configs.end());
         if (!poses.empty()) sets.insert(sets.begin(), {"pndt-map.pose_source=file", "pndt-map.pose_file=" + poses});
         if (!pose_format.empty()) sets.push_back("pndt-map.pose_format=" + pose_format);

@@ -28,9 +28,9 @@ uint32_t floatBits(float f)
 }
 
 /// A map with geometry, semantics and instances from a few viewpoints.
-PanopticNDTMap::Ptr labelledMap()
+PanopticNDTMap::Ptr labelledMap(const MapOptions& options = {})
 {
-    auto m = PanopticNDTMap::Create();
+    auto m = PanopticNDTMap::Create(options);
     for (int i = 0; i < 4; ++i)
     {
         const mrpt::poses::CPose3D robot(0.0, 0.05 * i, 0.0, 0.02 * i, 0.0, 0.0);
@@ -144,6 +144,15 @@ TEST(PluginSerialization, RoundTripKeepsTheRulesBeyondThePaper)
     o.fragment_merge_frames = 7;
     o.fragment_absorb_ratio = 0.3;
     o.label_fill_distance = 0.55;
+    o.occupied_threshold = 0.25f;
+    o.reset_freed_voxels = false;
+    o.miss_accumulation = MissAccumulation::PerRay;
+    o.instance_class_voxels = InstanceClassVoxels::TopInstance;
+    o.semantic_eviction = false;
+    o.void_bin = true;
+    o.fragment_min_mask_pixels = 17;
+    o.fragment_cover_share = 0.6;
+    o.fragment_joint_factor = 1.5;
     const PanopticNDTMap m(o);
     const auto back = std::dynamic_pointer_cast<PanopticNDTMap>(deserialize(serialize(m)));
     ASSERT_TRUE(back);
@@ -153,6 +162,15 @@ TEST(PluginSerialization, RoundTripKeepsTheRulesBeyondThePaper)
     EXPECT_EQ(b.fragment_merge_frames, 7u);
     EXPECT_EQ(b.fragment_absorb_ratio, 0.3);
     EXPECT_EQ(b.label_fill_distance, 0.55);
+    EXPECT_EQ(b.occupied_threshold, 0.25f);
+    EXPECT_FALSE(b.reset_freed_voxels);
+    EXPECT_EQ(b.miss_accumulation, MissAccumulation::PerRay);
+    EXPECT_EQ(b.instance_class_voxels, InstanceClassVoxels::TopInstance);
+    EXPECT_FALSE(b.semantic_eviction);
+    EXPECT_TRUE(b.void_bin);
+    EXPECT_EQ(b.fragment_min_mask_pixels, 17u);
+    EXPECT_EQ(b.fragment_cover_share, 0.6);
+    EXPECT_EQ(b.fragment_joint_factor, 1.5);
 }
 
 namespace
@@ -255,15 +273,54 @@ std::vector<uint8_t> version0Payload(const PanopticNDTMap& m, LabelDamage damage
 }
 }  // namespace
 
-TEST(PluginSerialization, ReadsVersion0Archives)
+/// Reads `payload` as serialisation version `version` into `back`.
+void readPayload(VersionReader& back, const std::vector<uint8_t>& payload, uint8_t version)
 {
-    const auto m = labelledMap();
-    const auto payload = version0Payload(*m);
-    VersionReader back;
     mrpt::io::CMemoryStream mem;
     mem.assignMemoryNotOwn(payload.data(), payload.size());
     auto in = mrpt::serialization::archiveFrom(mem);
-    back.serializeFrom(in, 0);
+    back.serializeFrom(in, version);
+}
+
+/// The rules of the code that wrote versions 0 and 1: none of the five beyond the paper.
+MapOptions versionOneRules()
+{
+    MapOptions o;
+    o.split_coverage = 0;
+    o.class_consistent_instances = false;
+    o.fragment_merge_frames = 0;
+    o.fragment_absorb_ratio = 0;
+    o.label_fill_distance = 0;
+    return o;
+}
+
+TEST(PluginSerialization, OldVersionsLoadWithTheRulesTheyWereBuiltWith)
+{
+    // A payload without the options added later (version 0/1 layout) written
+    // from a map with today's defaults: it must not come back with them.
+    const auto m = labelledMap();
+    VersionReader back;
+    readPayload(back, version0Payload(*m), 0);
+    const MapOptions& o = back.core().options();
+    EXPECT_EQ(o.split_coverage, 0.0);
+    EXPECT_FALSE(o.class_consistent_instances);
+    EXPECT_EQ(o.fragment_merge_frames, 0u);
+    EXPECT_EQ(o.fragment_absorb_ratio, 0.0);
+    EXPECT_EQ(o.label_fill_distance, 0.0);
+    // Options of version 4 keep the behaviour of the code before them.
+    EXPECT_EQ(o.occupied_threshold, 0.f);
+    EXPECT_TRUE(o.reset_freed_voxels);
+    EXPECT_EQ(o.miss_accumulation, MissAccumulation::Strongest);
+    EXPECT_EQ(o.instance_class_voxels, InstanceClassVoxels::PanopticThing);
+    EXPECT_TRUE(o.semantic_eviction);
+    EXPECT_FALSE(o.void_bin);
+}
+
+TEST(PluginSerialization, ReadsVersion0Archives)
+{
+    const auto m = labelledMap(versionOneRules());
+    VersionReader back;
+    readPayload(back, version0Payload(*m), 0);
     // Version 0 had no surface records: every voxel with a shape or labels gets
     // one, in voxel order. Voxel by voxel, everything is the same.
     const PanopticMap &a = m->core(), &b = back.core();

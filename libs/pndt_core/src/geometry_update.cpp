@@ -677,6 +677,8 @@ void PanopticMap::applyMisses(FrameStats& st)
     Scratch& s = *scratch_;
     const float constant_miss = options_.log_odds_miss;
     const float log_odds_min = options_.log_odds_min;
+    const float occupied_threshold = options_.occupied_threshold;
+    const bool reset_freed = options_.reset_freed_voxels;
     const auto& refs = s.block_refs;
     const int threads = s.pool ? s.threads : 1;
     s.miss_groups.clear();
@@ -744,7 +746,7 @@ void PanopticMap::applyMisses(FrameStats& st)
                 Voxel& v = store_[vi];
                 v.occ = std::max(log_odds_min, v.occ + delta);
                 // A voxel that turned free has lost what it held (a moved chair).
-                if (v.occ < 0.f) resetVoxelContents(v);
+                if (reset_freed && v.occ < occupied_threshold) resetVoxelContents(v);
             }
         fresh.end = uint32_t(c.slot.size());
     };

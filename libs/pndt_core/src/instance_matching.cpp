@@ -32,6 +32,11 @@ void PanopticMap::matchInstances(const PanopticFrame& f, const Pose& T, FrameSta
     Scratch& s = *scratch_;
     const size_t N = f.depth.data.size();
     const int threads = s.pool ? s.threads : 1;
+    // This frame's per-instance state starts empty: a frame that returns early
+    // (no prediction) must not leave the previous frame's split pixels or map
+    // instance classes to the histogram pass.
+    s.split_pixels = false;
+    s.group_class.clear();
 
     // Predicted instances, counted on pixels that were mapped (valid depth): row
     // bands with their own tables, merged in band order (first occurrence).
@@ -195,7 +200,9 @@ void PanopticMap::matchInstances(const PanopticFrame& f, const Pose& T, FrameSta
     AssignmentInput in;
     in.iou = s.iou.data();
     in.class_of = f.hasLabels() ? g.cls.data() : nullptr;
-    if (f.hasLabels() && (options_.class_consistent_instances || options_.split_coverage > 0))
+    // The class of each map instance in view, for every rule that needs it.
+    if (f.hasLabels() &&
+        (options_.class_consistent_instances || options_.split_coverage > 0 || options_.fragment_merge_frames > 0))
     {
         classifyMapInstances();
         if (options_.class_consistent_instances) in.map_class = s.group_class.data();
@@ -232,13 +239,14 @@ void PanopticMap::collectFragmentEvidence()
     if (options_.fragment_merge_frames == 0 || s.group_class.size() != G || G < 2) return;
     const PredictedBand& g = s.predicted_bands[0];
     // Each map instance in view that one prediction of its class covers mostly.
-    constexpr uint64_t kMinMaskPixels = 50;  // smaller masks say little
+    const uint64_t min_mask_pixels = options_.fragment_min_mask_pixels;  // smaller masks say little
+    const double cover = options_.fragment_cover_share;
     s.coverer.assign(G, -1);
     for (size_t gi = 0; gi < G; ++gi)
     {
-        if (s.group_class[gi] == 0 || s.group_area[gi] < kMinMaskPixels) continue;
+        if (s.group_class[gi] == 0 || s.group_area[gi] < min_mask_pixels) continue;
         for (size_t p = 0; p < P; ++p)
-            if (g.cls[p] == s.group_class[gi] && 2 * s.group_inter[gi * P + p] > s.group_area[gi])
+            if (g.cls[p] == s.group_class[gi] && double(s.group_inter[gi * P + p]) > cover * double(s.group_area[gi]))
                 s.coverer[gi] = int32_t(p);
     }
     for (size_t a = 0; a < G; ++a)
@@ -254,7 +262,8 @@ void PanopticMap::collectFragmentEvidence()
                 ++e.joint;
             else
                 ++e.apart;
-            if (e.joint >= options_.fragment_merge_frames && e.joint > 2 * e.apart)
+            if (e.joint >= options_.fragment_merge_frames &&
+                double(e.joint) > options_.fragment_joint_factor * double(e.apart))
                 s.fragment_merges.emplace_back(zb, za);  // keep the older id
         }
     }

@@ -144,6 +144,7 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
     const int last_band = s.bandOfRow(band.home_last_row, H);
     const bool instances = f.hasInstances();
     const float theta_l = float(options_.theta_l), theta_z = float(options_.theta_z);
+    const uint16_t void_id = options_.void_bin ? kVoidBin : 0;  // 0: void pixels leave h^L alone
     const uint16_t* sem = f.semantic.data.data();
     const float* sem_score = f.semantic_score.data.data();
     const int32_t* predicted = instances ? s.pixel_predicted.data() : nullptr;
@@ -251,7 +252,7 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
             }
         }
 
-        const uint16_t L = sem[i];
+        const uint16_t L = sem[i] ? sem[i] : void_id;
         const float sl = sem_score[i];
         const bool take = (L != 0) & (sl > theta_l);
         if (!(take & (L != run_l)))

@@ -38,6 +38,12 @@ void MapOptions::validate() const
     require(unit(theta_n) && theta_n <= theta_m, "theta_n", "in [0, theta_m]");
     require(theta_o >= 0, "theta_o", ">= 0");
     require(split_coverage >= 0 && split_coverage <= 1, "split_coverage", "in [0, 1]");
+    require(fragment_cover_share > 0 && fragment_cover_share < 1, "fragment_cover_share", "in (0, 1)");
+    require(fragment_joint_factor >= 0 && std::isfinite(fragment_joint_factor), "fragment_joint_factor",
+            ">= 0 and finite");
+    require(std::isfinite(occupied_threshold) && occupied_threshold >= log_odds_min &&
+                occupied_threshold < log_odds_max,
+            "occupied_threshold", "in [log_odds_min, log_odds_max)");
     require(fragment_absorb_ratio >= 0 && fragment_absorb_ratio < 1, "fragment_absorb_ratio", "in [0, 1)");
     require(label_fill_distance >= 0 && label_fill_distance <= 100, "label_fill_distance", "in [0, 100] m");
     require(vtou_mahalanobis_sq > 0, "vtou_mahalanobis_sq", "positive");

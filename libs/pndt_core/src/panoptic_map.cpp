@@ -294,7 +294,7 @@ void PanopticMap::restore(const std::vector<uint64_t>& keys, std::vector<Voxel> 
             if (r.semantic.ids[j] != 0)
                 throw std::invalid_argument(fmt::format("label record {} has a class after a free entry", i));
         for (int j = 0, n = r.semantic.size(); j < n; ++j)
-            if (!options_.classes.contains(r.semantic.ids[j]))
+            if (!options_.classes.contains(r.semantic.ids[j]) && !(options_.void_bin && r.semantic.ids[j] == kVoidBin))
                 throw std::invalid_argument(
                     fmt::format("label record {} holds class {} outside the class set", i, r.semantic.ids[j]));
     }

@@ -12,16 +12,19 @@ namespace pndt
 {
 void PanopticMap::classifyInstances() const
 {
-    // The summed thing histogram of every instance over all voxels that take it
-    // (pthing), in voxel order.
+    // Eq. 9: the summed thing histogram of every instance over its voxels, in
+    // voxel order: the voxels that take it (pthing, default) or every voxel
+    // whose top h^Z entry it is (the paper's sum; option instance_class_voxels).
     Propagation& pr = *prop_;
     const size_t n = store_.size();
     const size_t C = options_.classes.size();
+    const bool every_top = options_.instance_class_voxels == InstanceClassVoxels::TopInstance;
     tsl::robin_map<uint32_t, uint32_t> row_of;
     std::vector<double> class_mass;  // rows of C
     for (size_t i = 0; i < n; ++i)
     {
-        const uint32_t z = propagatedInstance(uint32_t(i));
+        uint32_t z = propagatedInstance(uint32_t(i));
+        if (z == 0 && every_top) z = strongestInstance(store_[uint32_t(i)]);
         if (z == 0) continue;
         const LabelRecord& rec = *labelsOf(store_[uint32_t(i)]);
         const auto [it, inserted] = row_of.try_emplace(z, uint32_t(row_of.size()));
@@ -280,6 +283,13 @@ void PanopticMap::fillUnlabelled(std::vector<uint32_t>& instance) const
     }
 }
 
+uint32_t PanopticMap::strongestInstance(const Voxel& v) const
+{
+    if (!isOccupied(v)) return 0;
+    const LabelRecord* rec = labelsOf(v);
+    return rec && rec->instances != kNoRecord ? instance_records_[rec->instances].hist.top() : 0;
+}
+
 uint32_t PanopticMap::topInstance(const Voxel& v) const
 {
     if (!isOccupied(v)) return 0;
@@ -310,7 +320,7 @@ PanopticLabel PanopticMap::panopticLabel(uint32_t voxel) const
 PanopticLabel PanopticMap::labelledLabel(const LabelRecord& rec, uint32_t instance) const
 {
     // pthing voxels take <the instance's class, the instance>; all others <argmax h^L, 0>.
-    if (instance == 0) return {rec.semantic.top(), 0};
+    if (instance == 0) return {semanticArgmax(rec), 0};
     return {prop_->instance_class.at(instance), instance};
 }
 
@@ -318,7 +328,7 @@ uint16_t PanopticMap::semanticLabel(uint32_t voxel) const
 {
     if (voxel >= store_.size()) return 0;
     const LabelRecord* r = labelsOf(store_[voxel]);
-    return r ? r->semantic.top() : 0;
+    return r ? semanticArgmax(*r) : 0;
 }
 
 std::vector<MapInstance> PanopticMap::instances() const

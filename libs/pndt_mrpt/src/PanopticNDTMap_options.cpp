@@ -49,6 +49,34 @@ ClassSet readClassSet(ConfigSection& s)
 }
 
 const char* rayModeName(RayMode m) { return m == RayMode::Merged ? "merged" : "per_pixel"; }
+const char* missAccumulationName(MissAccumulation m)
+{
+    return m == MissAccumulation::Strongest ? "strongest" : "per_ray";
+}
+const char* instanceClassVoxelsName(InstanceClassVoxels m)
+{
+    return m == InstanceClassVoxels::PanopticThing ? "pthing" : "top_instance";
+}
+
+/// Reads an enum option given by name; throws naming section, key and the choices.
+template <typename E>
+void readChoice(ConfigSection& s, const std::string& section, const char* key, E& value, const char* (*name)(E),
+                std::initializer_list<E> choices)
+{
+    std::string text = name(value);
+    s.read(key, text);
+    std::string known;
+    for (E c : choices)
+    {
+        if (text == name(c))
+        {
+            value = c;
+            return;
+        }
+        known += (known.empty() ? "" : ", ") + std::string(name(c));
+    }
+    throw std::invalid_argument(fmt::format("config [{}] key '{}': '{}' is not one of {}", section, key, text, known));
+}
 }  // namespace
 
 void loadMapOptions(const mrpt::config::CConfigFileBase& c, const std::string& section, MapOptions& o)
@@ -57,19 +85,15 @@ void loadMapOptions(const mrpt::config::CConfigFileBase& c, const std::string& s
     s.read("voxel_size", o.voxel_size);
     s.read("max_range", o.max_range);
     s.read("use_ndt", o.use_ndt);
-    std::string ray = rayModeName(o.ray_mode);
-    s.read("ray_mode", ray);
-    if (ray == "merged")
-        o.ray_mode = RayMode::Merged;
-    else if (ray == "per_pixel")
-        o.ray_mode = RayMode::PerPixel;
-    else
-        throw std::invalid_argument(
-            fmt::format("config [{}] key 'ray_mode': '{}' is not merged or per_pixel", section, ray));
+    readChoice(s, section, "ray_mode", o.ray_mode, rayModeName, {RayMode::Merged, RayMode::PerPixel});
+    readChoice(s, section, "miss_accumulation", o.miss_accumulation, missAccumulationName,
+               {MissAccumulation::Strongest, MissAccumulation::PerRay});
     s.read("log_odds_hit", o.log_odds_hit);
     s.read("log_odds_miss", o.log_odds_miss);
     s.read("log_odds_min", o.log_odds_min);
     s.read("log_odds_max", o.log_odds_max);
+    s.read("occupied_threshold", o.occupied_threshold);
+    s.read("reset_freed_voxels", o.reset_freed_voxels);
     s.read("ndt_min_samples", o.ndt_min_samples);
     s.read("ndt_sample_cap", o.ndt_sample_cap);
     s.read("ndt_min_sigma_ratio", o.ndt_min_sigma_ratio);
@@ -84,9 +108,16 @@ void loadMapOptions(const mrpt::config::CConfigFileBase& c, const std::string& s
     s.read("theta_m", o.theta_m);
     s.read("theta_n", o.theta_n);
     s.read("theta_o", o.theta_o);
+    readChoice(s, section, "instance_class_voxels", o.instance_class_voxels, instanceClassVoxelsName,
+               {InstanceClassVoxels::PanopticThing, InstanceClassVoxels::TopInstance});
+    s.read("semantic_eviction", o.semantic_eviction);
+    s.read("void_bin", o.void_bin);
     s.read("split_coverage", o.split_coverage);
     s.read("class_consistent_instances", o.class_consistent_instances);
     s.read("fragment_merge_frames", o.fragment_merge_frames);
+    s.read("fragment_min_mask_pixels", o.fragment_min_mask_pixels);
+    s.read("fragment_cover_share", o.fragment_cover_share);
+    s.read("fragment_joint_factor", o.fragment_joint_factor);
     s.read("fragment_absorb_ratio", o.fragment_absorb_ratio);
     s.read("label_fill_distance", o.label_fill_distance);
     s.read("vtou_mahalanobis_sq", o.vtou_mahalanobis_sq);
@@ -113,18 +144,25 @@ void loadMapOptions(const mrpt::config::CConfigFileBase& c, const std::string& s
 void dumpMapOptions(const MapOptions& o, std::ostream& out)
 {
     out << fmt::format(
-        "voxel_size = {}\nmax_range = {}\nuse_ndt = {}\nray_mode = {}\nlog_odds_hit = {}\nlog_odds_miss = {}\n"
-        "log_odds_min = {}\nlog_odds_max = {}\nndt_min_samples = {}\nndt_sample_cap = {}\n"
-        "ndt_min_sigma_ratio = {}\nmiss_min_likelihood = {}\nmiss_likelihood_scale = {}\nsensor_sigma_base = {}\n"
-        "sensor_sigma_quadratic = {}\ntheta_l = {}\ntheta_z = {}\ntheta_st = {}\ntheta_b = {}\ntheta_m = {}\n"
-        "theta_n = {}\ntheta_o = {}\nsplit_coverage = {}\nclass_consistent_instances = {}\nfragment_merge_frames = {}\n"
-        "fragment_absorb_ratio = {}\nlabel_fill_distance = {}\nvtou_mahalanobis_sq = {}\nvtou_depth_tolerance = {}\n"
+        "voxel_size = {}\nmax_range = {}\nuse_ndt = {}\nray_mode = {}\nmiss_accumulation = {}\nlog_odds_hit = {}\n"
+        "log_odds_miss = {}\nlog_odds_min = {}\nlog_odds_max = {}\noccupied_threshold = {}\nreset_freed_voxels = {}\n"
+        "ndt_min_samples = {}\nndt_sample_cap = {}\nndt_min_sigma_ratio = {}\nmiss_min_likelihood = {}\n"
+        "miss_likelihood_scale = {}\nsensor_sigma_base = {}\nsensor_sigma_quadratic = {}\n",
+        o.voxel_size, o.max_range, o.use_ndt, rayModeName(o.ray_mode), missAccumulationName(o.miss_accumulation),
+        o.log_odds_hit, o.log_odds_miss, o.log_odds_min, o.log_odds_max, o.occupied_threshold, o.reset_freed_voxels,
+        o.ndt_min_samples, o.ndt_sample_cap, o.ndt_min_sigma_ratio, o.miss_min_likelihood, o.miss_likelihood_scale,
+        o.sensor_sigma_base, o.sensor_sigma_quadratic);
+    out << fmt::format(
+        "theta_l = {}\ntheta_z = {}\ntheta_st = {}\ntheta_b = {}\ntheta_m = {}\ntheta_n = {}\ntheta_o = {}\n"
+        "instance_class_voxels = {}\nsemantic_eviction = {}\nvoid_bin = {}\nsplit_coverage = {}\n"
+        "class_consistent_instances = {}\nfragment_merge_frames = {}\nfragment_min_mask_pixels = {}\n"
+        "fragment_cover_share = {}\nfragment_joint_factor = {}\nfragment_absorb_ratio = {}\n"
+        "label_fill_distance = {}\nvtou_mahalanobis_sq = {}\nvtou_depth_tolerance = {}\n"
         "query_mahalanobis_sq = {}\nthreads = {}\nclasses = {}\n",
-        o.voxel_size, o.max_range, o.use_ndt, rayModeName(o.ray_mode), o.log_odds_hit, o.log_odds_miss,
-        o.log_odds_min, o.log_odds_max, o.ndt_min_samples, o.ndt_sample_cap, o.ndt_min_sigma_ratio,
-        o.miss_min_likelihood, o.miss_likelihood_scale, o.sensor_sigma_base, o.sensor_sigma_quadratic, o.theta_l,
-        o.theta_z, o.theta_st, o.theta_b, o.theta_m, o.theta_n, o.theta_o, o.split_coverage, o.class_consistent_instances, o.fragment_merge_frames,
-        o.fragment_absorb_ratio, o.label_fill_distance, o.vtou_mahalanobis_sq,
+        o.theta_l, o.theta_z, o.theta_st, o.theta_b, o.theta_m, o.theta_n, o.theta_o,
+        instanceClassVoxelsName(o.instance_class_voxels), o.semantic_eviction, o.void_bin, o.split_coverage,
+        o.class_consistent_instances, o.fragment_merge_frames, o.fragment_min_mask_pixels, o.fragment_cover_share,
+        o.fragment_joint_factor, o.fragment_absorb_ratio, o.label_fill_distance, o.vtou_mahalanobis_sq,
         o.vtou_depth_tolerance, o.query_mahalanobis_sq, o.threads, o.classes.size());
 }
 

@@ -1,7 +1,17 @@
 // Versioned MRPT serialisation of PanopticNDTMap. Every voxel field is written
 // raw, so a round trip is bit-exact.
 //
-// Version 3 (written): version 2 with the map options fragment_absorb_ratio
+// Version 4 (written): version 3 with the map options occupied_threshold (f32),
+// reset_freed_voxels (bool), miss_accumulation (u8), instance_class_voxels (u8),
+// semantic_eviction (bool), void_bin (bool), fragment_min_mask_pixels (u32),
+// fragment_cover_share (f64) and fragment_joint_factor (f64) after
+// label_fill_distance.
+// A map of an older version reads with the rules it was built with: the options
+// its version did not store did not exist then, so they take the values that
+// reproduce that code (version 1: the three matching rules off; version <= 2:
+// the two finalisation steps off; version <= 3: the defaults of version 4,
+// which are that code's behaviour).
+// Version 3 (read): version 2 with the map options fragment_absorb_ratio
 // (f64) and label_fill_distance (f64) after fragment_merge_frames.
 // Version 2 (read): version 1 with the map options split_coverage (f64),
 // class_consistent_instances (bool) and fragment_merge_frames (u32) after the
@@ -47,6 +57,9 @@ void writeOptions(CArchive& a, const MapOptions& o)
     for (const auto& c : o.classes.classes()) a << c.name << c.is_thing;
     a << o.split_coverage << o.class_consistent_instances << o.fragment_merge_frames;
     a << o.fragment_absorb_ratio << o.label_fill_distance;
+    a << o.occupied_threshold << o.reset_freed_voxels << uint8_t(o.miss_accumulation)
+      << uint8_t(o.instance_class_voxels) << o.semantic_eviction << o.void_bin << o.fragment_min_mask_pixels
+      << o.fragment_cover_share << o.fragment_joint_factor;
 }
 
 MapOptions readOptions(CArchive& a, uint8_t version)
@@ -66,9 +79,30 @@ MapOptions readOptions(CArchive& a, uint8_t version)
     std::vector<ClassSet::Class> classes(n);
     for (auto& c : classes) a >> c.name >> c.is_thing;
     o.classes = ClassSet(std::move(classes));
-    // Older maps take today's defaults: the rules work on the stored histograms.
-    if (version >= 2) a >> o.split_coverage >> o.class_consistent_instances >> o.fragment_merge_frames;
-    if (version >= 3) a >> o.fragment_absorb_ratio >> o.label_fill_distance;
+    // Older maps keep the rules they were built with (see the top of this file).
+    if (version >= 2)
+        a >> o.split_coverage >> o.class_consistent_instances >> o.fragment_merge_frames;
+    else
+    {
+        o.split_coverage = 0;
+        o.class_consistent_instances = false;
+        o.fragment_merge_frames = 0;
+    }
+    if (version >= 3)
+        a >> o.fragment_absorb_ratio >> o.label_fill_distance;
+    else
+        o.fragment_absorb_ratio = o.label_fill_distance = 0;
+    if (version >= 4)
+    {
+        uint8_t misses = 0, class_voxels = 0;
+        a >> o.occupied_threshold >> o.reset_freed_voxels >> misses >> class_voxels >> o.semantic_eviction >>
+            o.void_bin >> o.fragment_min_mask_pixels >> o.fragment_cover_share >> o.fragment_joint_factor;
+        if (misses > 1 || class_voxels > 1)
+            throw std::runtime_error(fmt::format("unknown miss_accumulation {} or instance_class_voxels {}",
+                                                 misses, class_voxels));
+        o.miss_accumulation = MissAccumulation(misses);
+        o.instance_class_voxels = InstanceClassVoxels(class_voxels);
+    }
     o.validate();
     return o;
 }
@@ -117,7 +151,7 @@ uint64_t readCount(CArchive& a, const char* what, uint64_t max)
 }
 }  // namespace
 
-uint8_t PanopticNDTMap::serializeGetVersion() const { return 3; }
+uint8_t PanopticNDTMap::serializeGetVersion() const { return 4; }
 
 void PanopticNDTMap::serializeTo(CArchive& out) const
 {
@@ -237,6 +271,7 @@ void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
         case 1:
         case 2:
         case 3:
+        case 4:
         {
             const char* stage = "header";
             try

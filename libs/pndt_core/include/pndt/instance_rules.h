@@ -15,6 +15,13 @@ inline float stuffMass(const LabelRecord& r, const ClassSet& classes)
     return stuff;
 }
 
+/// argmax h^L as a class id (the void bin reads as void, 0); 0 without evidence.
+inline uint16_t semanticArgmax(const LabelRecord& r)
+{
+    const uint8_t top = r.semantic.top();
+    return top == kVoidBin ? 0 : top;
+}
+
 /// isthing(v): the stuff share of h^L is below theta_st. A voxel without
 /// semantic mass is not a thing.
 inline bool isThing(const LabelRecord& r, const ClassSet& classes, double theta_st)

@@ -14,6 +14,25 @@ enum class RayMode
     PerPixel,  ///< one ray per valid pixel (exact, slow; for measuring the approximation)
 };
 
+/// How the free-space rays of one frame lower a voxel's log-odds.
+enum class MissAccumulation
+{
+    Strongest,  ///< one miss per voxel per frame: the strongest of the rays that crossed it (default, fast)
+    PerRay,     ///< every ray that crosses a voxel applies its miss (NDT-OM's per-ray form, the paper)
+};
+
+/// Which voxels' semantic histograms decide a map instance's class (paper Eq. 9).
+enum class InstanceClassVoxels
+{
+    /// Only voxels that take the instance in propagation (pthing and top-z):
+    /// a voxel that saw the instance too rarely to carry it (n^Z/n^L < theta_o)
+    /// does not vote for its class either (default, ours: such voxels are mostly
+    /// the border of a neighbouring object, and their class is the neighbour's).
+    PanopticThing,
+    /// Every voxel whose top h^Z entry is the instance (Eq. 9 as the paper states it).
+    TopInstance,
+};
+
 struct MapOptions
 {
     // --- geometry
@@ -27,6 +46,14 @@ struct MapOptions
     float log_odds_miss = -0.4f;  ///< miss for voxels without a usable Gaussian
     float log_odds_min = -2.0f;
     float log_odds_max = 3.5f;
+    /// A voxel is occupied when its log-odds are above this (0 = p > 0.5).
+    float occupied_threshold = 0.0f;
+    MissAccumulation miss_accumulation = MissAccumulation::Strongest;
+    /// A voxel whose log-odds drop below the occupied threshold loses its
+    /// NDT shape and histograms (a moved chair leaves nothing behind). false = it
+    /// keeps them and only its occupancy changes (the paper says nothing of
+    /// wiping, so its preset keeps them).
+    bool reset_freed_voxels = true;
 
     // --- NDT shape
     uint32_t ndt_min_samples = 3;      ///< below this a voxel has no usable Gaussian
@@ -47,6 +74,19 @@ struct MapOptions
     double theta_m = 0.2;   ///< IoU above which a predicted instance is matched
     double theta_n = 0.1;   ///< IoU at or below which it gets a new id
     double theta_o = 0.25;  ///< n^Z/n^L above which a thing voxel takes its instance
+    /// Which voxels vote for a map instance's class (Eq. 9); see InstanceClassVoxels.
+    InstanceClassVoxels instance_class_voxels = InstanceClassVoxels::PanopticThing;
+    /// h^L keeps at most LabelRecord::kSemanticCapacity (8) classes in the voxel
+    /// record; when full, a new class replaces the weakest (true, default: a
+    /// surface voxel rarely sees more than 3-4 classes). false = no eviction:
+    /// classes beyond the record go to a per-map overflow store, so h^L holds
+    /// every class it was given (the paper's dense histogram).
+    bool semantic_eviction = true;
+    /// Void pixels (class 0) with S^L > theta_l add to a void bin of h^L (true:
+    /// the paper's 41-bin histogram over NYUv2-40 + void; void counts as stuff
+    /// and a voxel whose argmax is void reads as void). false (default): void
+    /// means "no prediction" and leaves h^L alone; the pixel still maps geometry.
+    bool void_bin = false;
     /// A predicted instance that covers at least this share of a map instance of
     /// another thing class is a merge in the segmentation (a chair with its rug):
     /// its pixels on that map instance keep the map instance's id. 0 = off (the
@@ -63,6 +103,13 @@ struct MapOptions
     /// merged into the older id. 0 = off (the paper: fragments only heal through
     /// the histograms). The evidence is map state: copied and serialised with it.
     uint32_t fragment_merge_frames = 3;
+    /// Fragment evidence: masks smaller than this (pixels) say too little to count.
+    uint32_t fragment_min_mask_pixels = 50;
+    /// Fragment evidence: a prediction "covers" a map instance when it holds more
+    /// than this share of the instance's mask.
+    double fragment_cover_share = 0.5;
+    /// Fragment evidence: merge when joint frames exceed this many times the apart ones.
+    double fragment_joint_factor = 2.0;
 
     // --- finalisation (at propagation; the histograms stay as integrated)
     /// A map instance with at most this share of the voxels of a touching

@@ -112,7 +112,7 @@ class PanopticMap
     /// Forces label propagation now (e.g. before serialising).
     void finalize() const;
 
-    bool isOccupied(const Voxel& v) const { return v.occ > 0; }
+    bool isOccupied(const Voxel& v) const { return v.occ > options_.occupied_threshold; }
     /// The voxel's NDT shape (an empty one for voxels never hit).
     const NdtShape& shapeOf(const Voxel& v) const
     {
@@ -213,6 +213,8 @@ class PanopticMap
     /// The instance a voxel takes in propagation (pthing and its top id), or 0.
     uint32_t propagatedInstance(uint32_t voxel) const;
     uint32_t topInstance(const Voxel& v) const;
+    /// The top h^Z entry of an occupied voxel whether or not pthing holds, or 0.
+    uint32_t strongestInstance(const Voxel& v) const;
     void classifyInstances() const;
     /// `instance`: every voxel's propagated instance so far, updated in place.
     void absorbFragments(std::vector<uint32_t>& instance) const;

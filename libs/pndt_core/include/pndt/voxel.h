@@ -17,6 +17,10 @@
 namespace pndt
 {
 constexpr uint32_t kNoRecord = std::numeric_limits<uint32_t>::max();
+/// h^L's id for void (option void_bin): id 0 marks a histogram's free entries,
+/// and a class set has at most 255 classes (ids 0..254), so 255 is free. It
+/// counts as stuff and reads as void (semanticArgmax).
+constexpr uint8_t kVoidBin = 255;
 
 // Histogram weights: floats (exact, default) or 16-bit with a shared scale
 // (CMake option PNDT_QUANTISED_HISTOGRAMS: 12 bytes less per label record, 28

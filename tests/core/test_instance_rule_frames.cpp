@@ -1,0 +1,200 @@
+// The instance rules beyond the paper on hand-drawn frames of a wall: each rule
+// does what it says in every combination of options, and a frame that predicts
+// no instance inherits nothing from the frame before it.
+#include <gtest/gtest.h>
+#include <pndt/panoptic_map.h>
+
+#include <vector>
+
+using namespace pndt;
+
+namespace
+{
+constexpr uint16_t kWall = 1, kChair = 5, kTable = 7;  // NYUv2-40
+
+/// One column range of the image with its class and predicted instance.
+struct Stripe
+{
+    int c0, c1;  ///< columns [c0, c1)
+    uint16_t semantic;
+    uint32_t instance;
+};
+
+/// 64x48 camera at the origin looking along +z at a wall 2 m away (6.25 cm per
+/// pixel there: 1.6 pixels per 10 cm voxel). Columns outside every stripe are
+/// wall without instance. S^L = 0.95, S^P = 0.9.
+PanopticFrame wallWith(const std::vector<Stripe>& stripes)
+{
+    PanopticFrame f;
+    f.K = {64, 48, 32.0, 32.0, 31.5, 23.5};
+    f.depth.resize(64, 48, 2.0f);
+    f.semantic.resize(64, 48, kWall);
+    f.semantic_score.resize(64, 48, 0.95f);
+    f.instance.resize(64, 48, 0u);
+    f.panoptic_score.resize(64, 48, 0.9f);
+    for (const Stripe& s : stripes)
+        for (int r = 0; r < 48; ++r)
+            for (int c = s.c0; c < s.c1; ++c)
+            {
+                f.semantic.at(r, c) = s.semantic;
+                f.instance.at(r, c) = s.instance;
+            }
+    f.source = "TEST wall";
+    return f;
+}
+
+MapOptions paperRules()
+{
+    MapOptions o;
+    o.class_consistent_instances = false;
+    o.split_coverage = 0;
+    o.fragment_merge_frames = 0;
+    o.fragment_absorb_ratio = 0;
+    o.label_fill_distance = 0;
+    return o;
+}
+
+size_t instancesOfClass(const PanopticMap& map, uint16_t semantic)
+{
+    size_t n = 0;
+    for (const MapInstance& mi : map.instances()) n += mi.semantic == semantic;
+    return n;
+}
+}  // namespace
+
+TEST(InstanceRuleFrames, AFrameWithoutPredictionsKeepsNoSplitPixelsOfTheFrameBefore)
+{
+    MapOptions o;  // defaults: split_coverage 0.5, class-consistent instances
+    PanopticMap map(o);
+    // Two chairs on the wall, seen three times (splits need two map instances in view).
+    const PanopticFrame chairs = wallWith({{0, 16, kChair, 1}, {40, 56, kChair, 2}});
+    for (int i = 0; i < 3; ++i) map.integrate(chairs, Pose::Identity());
+    ASSERT_EQ(instancesOfClass(map, kChair), 2u);
+    // A table prediction swallows the left chair and the wall beside it: split.
+    const FrameStats merged = map.integrate(wallWith({{0, 32, kTable, 3}}), Pose::Identity());
+    ASSERT_GE(merged.split_predictions, 1u);
+    // Then a frame of bare wall with an instance image that predicts nothing:
+    // no pixel may take an instance, least of all the chair's from the split.
+    const FrameStats bare = map.integrate(wallWith({}), Pose::Identity());
+    EXPECT_EQ(bare.predicted_instances, 0u);
+    EXPECT_EQ(bare.instance_updates, 0u);
+}
+
+TEST(InstanceRuleFrames, FragmentsMergeWithTheOtherRulesOff)
+{
+    // Two chairs seen apart once, then always as one prediction: after
+    // fragment_merge_frames joint frames (and more than twice the apart ones)
+    // the newer id joins the older, whatever the other rules say.
+    for (const bool class_consistent : {false, true})
+        for (const double split : {0.0, 0.5})
+        {
+            MapOptions o = paperRules();
+            o.fragment_merge_frames = 3;
+            o.class_consistent_instances = class_consistent;
+            o.split_coverage = split;
+            PanopticMap map(o);
+            map.integrate(wallWith({{0, 16, kChair, 1}, {32, 48, kChair, 2}}), Pose::Identity());
+            map.integrate(wallWith({{0, 16, kChair, 1}, {32, 48, kChair, 2}}), Pose::Identity());
+            ASSERT_EQ(instancesOfClass(map, kChair), 2u) << class_consistent << " " << split;
+            uint64_t merged = 0;
+            for (int i = 0; i < 4; ++i)
+                merged += map.integrate(wallWith({{0, 48, kChair, 7}}), Pose::Identity()).merged_fragments;
+            EXPECT_EQ(merged, 1u) << "class_consistent " << class_consistent << ", split " << split;
+        }
+}
+
+TEST(InstanceRuleFrames, NoFragmentMergeWhenTheRuleIsOff)
+{
+    PanopticMap map(paperRules());
+    map.integrate(wallWith({{0, 16, kChair, 1}, {32, 48, kChair, 2}}), Pose::Identity());
+    map.integrate(wallWith({{0, 16, kChair, 1}, {32, 48, kChair, 2}}), Pose::Identity());
+    uint64_t merged = 0;
+    for (int i = 0; i < 4; ++i) merged += map.integrate(wallWith({{0, 48, kChair, 7}}), Pose::Identity()).merged_fragments;
+    EXPECT_EQ(merged, 0u);
+}
+
+TEST(InstanceRuleFrames, EquationNineSumsThePThingVoxelsOrEveryTopVoxel)
+{
+    // One prediction covers a chair (columns 0-15) and a table beside it
+    // (16-47) once; afterwards the table is seen without instance, so its voxels
+    // keep instance z at the top of h^Z but fail pthing (n^Z/n^L = 1/9 < 0.25).
+    // The instance's class: chair from its pthing voxels only; table (twice the
+    // chair's mass) when every voxel whose top entry is z votes (the paper).
+    for (const InstanceClassVoxels mode : {InstanceClassVoxels::PanopticThing, InstanceClassVoxels::TopInstance})
+    {
+        MapOptions o = paperRules();
+        o.instance_class_voxels = mode;
+        PanopticMap map(o);
+        map.integrate(wallWith({{0, 16, kChair, 1}, {16, 48, kTable, 1}}), Pose::Identity());
+        for (int i = 0; i < 8; ++i) map.integrate(wallWith({{0, 16, kChair, 1}, {16, 48, kTable, 0}}), Pose::Identity());
+        const auto instances = map.instances();
+        ASSERT_EQ(instances.size(), 1u);
+        EXPECT_EQ(instances[0].semantic, mode == InstanceClassVoxels::PanopticThing ? kChair : kTable);
+        // Either way only the chair's voxels carry the instance.
+        EXPECT_LT(instances[0].bbox_max.x(), -0.9);
+    }
+}
+
+TEST(InstanceRuleFrames, AFreedVoxelKeepsItsLabelsUnlessResetIsOn)
+{
+    // A labelled wall at 2 m, then the wall moves to 3 m: the rays through the
+    // old wall clear it. reset_freed_voxels wipes its shape and labels (default);
+    // off, it keeps them and only its occupancy falls.
+    for (const bool reset : {true, false})
+    {
+        MapOptions o;
+        o.reset_freed_voxels = reset;
+        o.ray_mode = RayMode::PerPixel;  // every pixel's ray crosses the old wall
+        PanopticMap map(o);
+        for (int i = 0; i < 3; ++i) map.integrate(wallWith({{0, 16, kChair, 1}}), Pose::Identity());
+        PanopticFrame far = wallWith({});
+        far.depth.resize(64, 48, 3.0f);
+        for (int i = 0; i < 20; ++i) map.integrate(far, Pose::Identity());
+        const uint32_t old_wall = map.voxels().find(map.grid().keyOf({0.01, 0.01, 2.0}));
+        ASSERT_NE(old_wall, kNoRecord);
+        const Voxel& v = map.voxels()[old_wall];
+        EXPECT_LT(v.occ, 0.f) << "reset " << reset;
+        const LabelRecord* rec = map.labelsOf(v);  // wiped records stay allocated for reuse
+        ASSERT_NE(rec, nullptr);
+        EXPECT_EQ(rec->semantic.empty(), reset);
+        if (!reset) EXPECT_EQ(rec->semantic.top(), kWall);
+        EXPECT_EQ(map.shapeOf(v).n == 0, reset);
+    }
+}
+
+TEST(InstanceRuleFrames, VoidPixelsFillTheVoidBinOnlyWhenAsked)
+{
+    // Columns 0-15 void with S^L = 0.95 > theta_l.
+    for (const bool void_bin : {false, true})
+    {
+        MapOptions o;
+        o.void_bin = void_bin;
+        PanopticMap map(o);
+        map.integrate(wallWith({{0, 16, 0, 0}}), Pose::Identity());
+        const uint32_t vi = map.voxels().find(map.grid().keyOf({-1.5, 0.01, 2.0}));
+        ASSERT_NE(vi, kNoRecord);
+        const LabelRecord* rec = map.labelsOf(map.voxels()[vi]);
+        ASSERT_EQ(rec != nullptr, void_bin);
+        if (void_bin)
+        {
+            EXPECT_EQ(rec->semantic.top(), kVoidBin);
+            EXPECT_EQ(map.semanticLabel(vi), 0);  // reads as void
+            EXPECT_EQ(map.panopticLabel(vi), PanopticLabel{});
+        }
+    }
+}
+
+TEST(InstanceRuleFrames, OccupiedThresholdDecidesWhatIsOccupied)
+{
+    // One hit gives +0.85: occupied at threshold 0, not at threshold 1.
+    for (const float threshold : {0.f, 1.f})
+    {
+        MapOptions o;
+        o.occupied_threshold = threshold;
+        PanopticMap map(o);
+        map.integrate(wallWith({}), Pose::Identity());
+        const uint32_t wall = map.voxels().find(map.grid().keyOf({0.01, 0.01, 2.0}));
+        ASSERT_NE(wall, kNoRecord);
+        EXPECT_EQ(map.isOccupied(map.voxels()[wall]), threshold == 0.f);
+    }
+}
