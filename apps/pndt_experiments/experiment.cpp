@@ -34,6 +34,7 @@ MapOptions baseOptions(const Plan& plan, double voxel)
     o.theta_l = 0.7;
     o.theta_z = plan.resolution == "1024x768" ? 0.4 : 0.1;
     o.threads = 1;
+    plan.rules.applyTo(o);
     return o;
 }
 
@@ -108,6 +109,39 @@ struct MapSlot
 };
 }  // namespace
 
+const std::vector<std::string>& RuleThresholds::names()
+{
+    static const std::vector<std::string> n = {"split_coverage", "fragment_merge_frames", "fragment_absorb_ratio",
+                                               "label_fill_distance"};
+    return n;
+}
+
+double RuleThresholds::get(const std::string& name) const
+{
+    if (name == "split_coverage") return split_coverage;
+    if (name == "fragment_merge_frames") return fragment_merge_frames;
+    if (name == "fragment_absorb_ratio") return fragment_absorb_ratio;
+    if (name == "label_fill_distance") return label_fill_distance;
+    throw std::invalid_argument("unknown rule threshold '" + name + "'");
+}
+
+void RuleThresholds::set(const std::string& name, double value)
+{
+    if (name == "split_coverage") split_coverage = value;
+    else if (name == "fragment_merge_frames") fragment_merge_frames = value;
+    else if (name == "fragment_absorb_ratio") fragment_absorb_ratio = value;
+    else if (name == "label_fill_distance") label_fill_distance = value;
+    else throw std::invalid_argument("unknown rule threshold '" + name + "'");
+}
+
+void RuleThresholds::applyTo(MapOptions& o) const
+{
+    o.split_coverage = split_coverage;
+    o.fragment_merge_frames = uint32_t(std::lround(fragment_merge_frames));
+    o.fragment_absorb_ratio = fragment_absorb_ratio;
+    o.label_fill_distance = label_fill_distance;
+}
+
 InputStats& InputStats::operator+=(const InputStats& o)
 {
     pixels += o.pixels;
@@ -135,6 +169,12 @@ std::vector<RowSpec> makeRows(const Plan& plan)
     rows.push_back(raw);
     for (double v : plan.voxels)
         rows.push_back(mapRow("ndt-net@" + cm(v), "net", "PanopticNDT", v, Input::Network, baseOptions(plan, v)));
+    for (double v : plan.voxels)
+    {
+        MapOptions o = baseOptions(plan, v);
+        o.applyPaperRules();
+        rows.push_back(mapRow("paper-net@" + cm(v), "net", "paper preset (exact)", v, Input::Network, o));
+    }
     for (double v : plan.voxels)
     {
         MapOptions o = baseOptions(plan, v);
@@ -203,30 +243,49 @@ std::vector<RowSpec> makeRows(const Plan& plan)
     return rows;
 }
 
-std::string validationRowId(double theta_l) { return fmt::format("val-thl-{:g}", theta_l); }
+double defaultValue(const std::string& param) { return param == "theta_l" ? 0.7 : RuleThresholds{}.get(param); }
 
-std::vector<RowSpec> makeValidationRows(const Plan& plan, const std::vector<double>& theta_l)
+std::string validationRowId(const std::string& param, double value)
+{
+    // Every parameter at its default is one map: the theta_L = 0.7 row.
+    if (value == defaultValue(param)) return fmt::format("val-theta_l-{:g}", defaultValue("theta_l"));
+    return fmt::format("val-{}-{:g}", param, value);
+}
+std::string validationRowId(double theta_l) { return validationRowId("theta_l", theta_l); }
+
+std::vector<RowSpec> makeValidationRows(const Plan& plan, const Sweep& sweep)
 {
     std::vector<RowSpec> rows = makeRows(plan);
     rows.erase(std::remove_if(rows.begin(), rows.end(), [](const RowSpec& r) { return r.id != "raw-net"; }),
                rows.end());
-    for (double t : theta_l)
-    {
-        MapOptions o = baseOptions(plan, plan.ablation_voxel);
-        o.theta_l = t;
-        rows.push_back(mapRow(validationRowId(t), "validation", fmt::format("PanopticNDT, theta_L = {:g}", t),
-                              plan.ablation_voxel, Input::Network, o));
-    }
+    std::set<std::string> made;
+    for (const auto& [param, values] : sweep)
+        for (double value : values)
+        {
+            const std::string id = validationRowId(param, value);
+            if (!made.insert(id).second) continue;
+            MapOptions o = baseOptions(plan, plan.ablation_voxel);
+            if (param == "theta_l")
+                o.theta_l = value;
+            else
+            {
+                RuleThresholds r = plan.rules;
+                r.set(param, value);
+                r.applyTo(o);
+            }
+            rows.push_back(mapRow(id, "validation", fmt::format("PanopticNDT, {} = {:g}", param, value),
+                                  plan.ablation_voxel, Input::Network, o));
+        }
     return rows;
 }
 
-double validationCriterion(const ValidationResult& v, double theta_l)
+double validationCriterion(const ValidationResult& v, const std::string& param, double value)
 {
     double sum = 0;
     size_t n = 0;
     for (const RunResult& r : v.runs)
     {
-        auto it = r.scores.find(validationRowId(theta_l));
+        auto it = r.scores.find(validationRowId(param, value));
         if (it == r.scores.end()) continue;
         const Scores& s = it->second;
         sum += (s.miou3 + s.pq3 + s.miou2 + s.pq2) / 4.0;
@@ -234,17 +293,24 @@ double validationCriterion(const ValidationResult& v, double theta_l)
     }
     return n ? sum / double(n) : kNaN;
 }
-
-double chooseThetaL(const ValidationResult& v)
+double validationCriterion(const ValidationResult& v, double theta_l)
 {
-    double best = 0.7, best_c = validationCriterion(v, 0.7);
-    for (double t : v.theta_l)
+    return validationCriterion(v, "theta_l", theta_l);
+}
+
+double chooseValue(const ValidationResult& v, const std::string& param)
+{
+    double best = defaultValue(param), best_c = validationCriterion(v, param, best);
+    const auto it = v.sweep.find(param);
+    if (it == v.sweep.end()) return best;
+    for (double t : it->second)
     {
-        const double c = validationCriterion(v, t);
+        const double c = validationCriterion(v, param, t);
         if (!std::isnan(c) && (std::isnan(best_c) || c > best_c)) best = t, best_c = c;
     }
     return best;
 }
+double chooseThetaL(const ValidationResult& v) { return chooseValue(v, "theta_l"); }
 
 std::vector<std::string> pooledKeys(const Plan& plan)
 {

@@ -51,6 +51,22 @@ struct RowSpec
     MapOptions options;
 };
 
+/// The thresholds of our rules beyond the paper (map_options.h), chosen on the
+/// validation scenes; the defaults are MapOptions' (set while developing the
+/// rules on the generated default scene "small", which is never reported).
+struct RuleThresholds
+{
+    double split_coverage = 0.5;
+    double fragment_merge_frames = 3;
+    double fragment_absorb_ratio = 0.15;
+    double label_fill_distance = 0.3;
+    /// Names of the swept parameters, in order.
+    static const std::vector<std::string>& names();
+    double get(const std::string& name) const;
+    void set(const std::string& name, double value);
+    void applyTo(MapOptions& o) const;
+};
+
 struct Plan
 {
     std::vector<std::string> scenes;
@@ -66,12 +82,20 @@ struct Plan
     std::vector<RowSpec> rows;         ///< filled by makeRows()
     /// theta_L chosen on the validation scenes; NaN = no "tuned" rows.
     double tuned_theta_l = kNaN;
+    /// Our rules' thresholds for every map row (chosen on the validation scenes).
+    RuleThresholds rules;
 };
 
+/// Values tried on the validation scenes per parameter ("theta_l" and RuleThresholds::names()).
+using Sweep = std::map<std::string, std::vector<double>>;
 /// Validation: the network-input PanopticNDT map at the ablation voxel size for every
-/// theta_L in `theta_l` (row ids "val-thl-<value>"), plus the raw input.
-std::vector<RowSpec> makeValidationRows(const Plan& plan, const std::vector<double>& theta_l);
+/// value of every swept parameter, one parameter varied at a time from the defaults
+/// (row ids "val-<param>-<value>"; the defaults' map is "val-theta_l-0.7"), plus the raw input.
+std::vector<RowSpec> makeValidationRows(const Plan& plan, const Sweep& sweep);
+std::string validationRowId(const std::string& param, double value);
 std::string validationRowId(double theta_l);
+/// The value of `param` the plan's defaults use (theta_l: 0.7).
+double defaultValue(const std::string& param);
 
 /// The rows of the tables for a plan (raw inputs, maps, query-side ablations).
 std::vector<RowSpec> makeRows(const Plan& plan);
@@ -146,18 +170,21 @@ struct RunResult
 /// Row ids whose per-class results are pooled over runs (for the per-class tables / chart).
 std::vector<std::string> pooledKeys(const Plan& plan);
 
-/// The theta_L sweep on the validation scenes.
+/// The sweeps on the validation scenes.
 struct ValidationResult
 {
     Plan plan;
-    std::vector<double> theta_l;
+    Sweep sweep;
     std::vector<RunResult> runs;
-    double chosen = 0.7;
+    double chosen = 0.7;       ///< theta_L
+    RuleThresholds rules;      ///< our rules' thresholds
 };
-/// Selection criterion of a theta_L value: the mean over the validation runs of
+/// Selection criterion of a parameter value: the mean over the validation runs of
 /// (3D mIoU + 3D PQ + 2D mIoU + 2D PQ) / 4 of the network-input map.
+double validationCriterion(const ValidationResult& v, const std::string& param, double value);
 double validationCriterion(const ValidationResult& v, double theta_l);
-/// The value with the highest criterion (ties: the paper's 0.7, then the first listed).
+/// The value of `param` with the highest criterion (ties: the default, then the first listed).
+double chooseValue(const ValidationResult& v, const std::string& param);
 double chooseThetaL(const ValidationResult& v);
 
 /// Runs one (scene, seed). Thread-safe (no shared state); throws on errors.

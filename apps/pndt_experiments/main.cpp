@@ -165,10 +165,13 @@ std::vector<exp::RunResult> runAll(const exp::Plan& plan, const std::string& wha
 int main(int argc, char** argv)
 {
     exp::Plan plan;
-    std::string scenes = "small,living,office", seeds = "1,2,3", voxels = "0.05,0.1,0.2";
+    std::string scenes = "held_living,held_office,held_bedroom", seeds = "1,2,3", voxels = "0.05,0.1,0.2";
     std::string out_md = "doc/results.md", images = "doc/images";
     bool quick = false;
     std::string val_scenes = "bedroom,dining", val_seeds = "1,2", sweep = "0.3,0.5,0.7,0.9";
+    std::vector<std::string> rule_sweeps = {"split_coverage=0.3/0.5/0.7", "fragment_merge_frames=2/3/5",
+                                            "fragment_absorb_ratio=0.1/0.15/0.25",
+                                            "label_fill_distance=0.2/0.3/0.5"};
     plan.frames = 60;
 
     CLI::App app{"pndt-experiments: the paper's Table I experiments on the synthetic benchmark; writes "
@@ -200,6 +203,10 @@ int main(int argc, char** argv)
         ->capture_default_str();
     app.add_option("--validation-seeds", val_seeds, "seeds of the validation scenes")->capture_default_str();
     app.add_option("--sweep-theta-l", sweep, "theta_L values tried on the validation scenes")->capture_default_str();
+    app.add_option("--sweep-rule", rule_sweeps,
+                   "NAME=V1/V2/..: values of one of our rules' thresholds tried on the validation scenes "
+                   "(repeatable; one parameter varied at a time)")
+        ->capture_default_str();
     app.add_flag("-v,--verbose", plan.verbose, "progress every 10 frames");
     app.add_flag("--details", plan.details,
                  "print the outcome of every GT thing segment in 3D (PanopticNDT at the ablation voxel size)");
@@ -210,7 +217,7 @@ int main(int argc, char** argv)
     {
         if (quick)
         {
-            if (!app.count("--scenes")) scenes = "small";
+            if (!app.count("--scenes")) scenes = "held_living";
             if (!app.count("--seeds")) seeds = "1";
             if (!app.count("--frames")) plan.frames = 30;
             if (!app.count("--voxels")) voxels = "0.1";
@@ -244,16 +251,35 @@ int main(int argc, char** argv)
                 if (std::find(plan.scenes.begin(), plan.scenes.end(), v) != plan.scenes.end())
                     throw std::invalid_argument("validation scene '" + v + "' is also a reported scene");
             vplan.details = false;
-            validation.theta_l = parseList<double>(sweep, "theta_L value");
-            vplan.rows = exp::makeValidationRows(vplan, validation.theta_l);
-            fmt::print("validation: theta_L in {{{}}} on {} x seeds {} ({} frames, {} at {} m)\n", sweep, val_scenes,
-                       val_seeds, vplan.frames, plan.resolution, plan.ablation_voxel);
+            validation.sweep["theta_l"] = parseList<double>(sweep, "theta_L value");
+            for (const std::string& r : rule_sweeps)
+            {
+                const auto eq = r.find('=');
+                const std::string name = r.substr(0, eq);
+                const auto& names = exp::RuleThresholds::names();
+                if (eq == std::string::npos || std::find(names.begin(), names.end(), name) == names.end())
+                    throw std::invalid_argument("--sweep-rule '" + r + "': not NAME=V1/V2/.. with a rule threshold");
+                std::string values = r.substr(eq + 1);
+                std::replace(values.begin(), values.end(), '/', ',');
+                validation.sweep[name] = parseList<double>(values, "rule threshold value");
+            }
+            vplan.rows = exp::makeValidationRows(vplan, validation.sweep);
+            fmt::print("validation: theta_L in {{{}}} and {} rule sweeps on {} x seeds {} ({} frames, {} at {} m, {} "
+                       "maps per run)\n",
+                       sweep, rule_sweeps.size(), val_scenes, val_seeds, vplan.frames, plan.resolution,
+                       plan.ablation_voxel, vplan.rows.size() - 1);
             std::fflush(stdout);
             validation.runs = runAll(vplan, "validation");
             validation.plan = vplan;
             validation.chosen = exp::chooseThetaL(validation);
             fmt::print("validation: chose theta_L = {:g}\n", validation.chosen);
             if (validation.chosen != 0.7) plan.tuned_theta_l = validation.chosen;
+            for (const std::string& name : exp::RuleThresholds::names())
+            {
+                plan.rules.set(name, exp::chooseValue(validation, name));
+                fmt::print("validation: chose {} = {:g}\n", name, plan.rules.get(name));
+            }
+            validation.rules = plan.rules;
         }
         plan.rows = exp::makeRows(plan);
         const std::vector<exp::RunResult> runs = runAll(plan, "test");

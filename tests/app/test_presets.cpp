@@ -70,6 +70,16 @@ TEST(Presets, PaperFixesEveryOptionANewOneMustBeDecidedHere)
               "vtou_depth_tolerance = 1\nquery_mahalanobis_sq = 9\nthreads = 1\nclasses = 41\n");
 }
 
+TEST(Presets, PaperFileEqualsTheCoreRulesTheExperimentsUse)
+{
+    MapOptions rules;
+    rules.applyPaperRules();
+    std::ostringstream file, core;
+    dumpMapOptions(presetOptions("paper"), file);
+    dumpMapOptions(rules, core);
+    EXPECT_EQ(file.str(), core.str());
+}
+
 TEST(Presets, RealWorldUsesTheAppendixMatchingThresholds)
 {
     const MapOptions o = presetOptions("realworld");

@@ -53,6 +53,21 @@ void MapOptions::validate() const
     require(threads >= 0 && threads <= 256, "threads", "in [0, 256] (0 = all hardware threads)");
 }
 
+void MapOptions::applyPaperRules()
+{
+    ray_mode = RayMode::PerPixel;
+    miss_accumulation = MissAccumulation::PerRay;
+    reset_freed_voxels = false;
+    instance_class_voxels = InstanceClassVoxels::TopInstance;
+    semantic_eviction = false;
+    void_bin = true;
+    class_consistent_instances = false;
+    split_coverage = 0;
+    fragment_merge_frames = 0;
+    fragment_absorb_ratio = 0;
+    label_fill_distance = 0;
+}
+
 int MapOptions::resolvedThreads() const
 {
     if (threads > 0) return threads;

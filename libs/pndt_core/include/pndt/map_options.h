@@ -143,6 +143,13 @@ struct MapOptions
 
     /// Throws std::invalid_argument naming the first bad field.
     void validate() const;
+
+    /// Every rule as the paper states it (arXiv v2, Eq. 2-10), none of ours:
+    /// per-pixel rays applying per-ray misses, no wiping, Eq. 9 over every top
+    /// voxel, a dense h^L with a void bin, the five rules beyond the paper off.
+    /// Geometry, thresholds and execution options are left as they are. The
+    /// same as config/presets/paper.ini (tested).
+    void applyPaperRules();
 };
 
 }  // namespace pndt
