@@ -784,88 +784,54 @@ Scene makeIndoorScene(const IndoorSceneOptions& o)
     return s;
 }
 
+namespace
+{
+struct ScenePreset
+{
+    const char* name;
+    RoomType type;
+    double x, y, z;  ///< room size (m)
+    double clutter;
+    uint64_t seed;
+};
+// held_*: rooms for the reported tables (doc/results.md), like living, office
+// and bedroom, furnished from seeds no test, tuning or development run has used.
+constexpr ScenePreset kScenePresets[] = {
+    {"small", RoomType::Living, 4.5, 4.0, 2.6, 0.3, 11},
+    {"living", RoomType::Living, 6.0, 5.0, 2.7, 0.6, 21},
+    {"office", RoomType::Office, 7.0, 5.5, 2.8, 0.8, 31},
+    {"bedroom", RoomType::Bedroom, 4.8, 4.2, 2.6, 0.5, 41},
+    {"dining", RoomType::Dining, 6.5, 5.0, 2.7, 0.6, 51},
+    {"hall", RoomType::Hall, 11.0, 8.0, 3.2, 0.8, 61},
+    {"held_living", RoomType::Living, 5.8, 4.8, 2.7, 0.6, 121},
+    {"held_office", RoomType::Office, 6.8, 5.4, 2.8, 0.7, 131},
+    {"held_bedroom", RoomType::Bedroom, 5.0, 4.4, 2.6, 0.5, 141},
+};
+}  // namespace
+
 std::vector<std::string> indoorScenePresetNames()
 {
-    return {"small", "living", "office", "bedroom", "dining", "hall", "held_living", "held_office", "held_bedroom"};
+    std::vector<std::string> names;
+    for (const ScenePreset& p : kScenePresets) names.emplace_back(p.name);
+    return names;
 }
 
 IndoorSceneOptions indoorScenePreset(const std::string& name)
 {
-    IndoorSceneOptions o;
-    o.name = name;
-    if (name == "small")
-    {
-        o.type = RoomType::Living;
-        o.room_size = {4.5, 4.0, 2.6};
-        o.clutter = 0.3;
-        o.seed = 11;
-    }
-    else if (name == "living")
-    {
-        o.type = RoomType::Living;
-        o.room_size = {6.0, 5.0, 2.7};
-        o.clutter = 0.6;
-        o.seed = 21;
-    }
-    else if (name == "office")
-    {
-        o.type = RoomType::Office;
-        o.room_size = {7.0, 5.5, 2.8};
-        o.clutter = 0.8;
-        o.seed = 31;
-    }
-    else if (name == "bedroom")
-    {
-        o.type = RoomType::Bedroom;
-        o.room_size = {4.8, 4.2, 2.6};
-        o.clutter = 0.5;
-        o.seed = 41;
-    }
-    else if (name == "dining")
-    {
-        o.type = RoomType::Dining;
-        o.room_size = {6.5, 5.0, 2.7};
-        o.clutter = 0.6;
-        o.seed = 51;
-    }
-    // Held-out rooms for the reported tables (doc/results.md): like living,
-    // office and bedroom, with furniture from seeds no test, tuning or
-    // development run has used.
-    else if (name == "held_living")
-    {
-        o.type = RoomType::Living;
-        o.room_size = {5.8, 4.8, 2.7};
-        o.clutter = 0.6;
-        o.seed = 121;
-    }
-    else if (name == "held_office")
-    {
-        o.type = RoomType::Office;
-        o.room_size = {6.8, 5.4, 2.8};
-        o.clutter = 0.7;
-        o.seed = 131;
-    }
-    else if (name == "held_bedroom")
-    {
-        o.type = RoomType::Bedroom;
-        o.room_size = {5.0, 4.4, 2.6};
-        o.clutter = 0.5;
-        o.seed = 141;
-    }
-    else if (name == "hall")
-    {
-        o.type = RoomType::Hall;
-        o.room_size = {11.0, 8.0, 3.2};
-        o.clutter = 0.8;
-        o.seed = 61;
-    }
-    else
-    {
-        std::string known;
-        for (const auto& n : indoorScenePresetNames()) known += (known.empty() ? "" : ", ") + n;
-        throw InputError("unknown scene preset '" + name + "' (known: " + known + ", or a number)");
-    }
-    return o;
+    for (const ScenePreset& p : kScenePresets)
+        if (name == p.name)
+        {
+            IndoorSceneOptions o;
+            o.name = name;
+            o.type = p.type;
+            o.room_size = {p.x, p.y, p.z};
+            o.clutter = p.clutter;
+            o.seed = p.seed;
+            return o;
+        }
+    std::string known;
+    for (const auto& n : indoorScenePresetNames()) known += (known.empty() ? "" : ", ") + n;
+    throw InputError("unknown scene preset '" + name + "' (known: " + known + ", or a number)");
 }
 
 IndoorSceneOptions randomIndoorScene(uint64_t seed)
