@@ -284,6 +284,33 @@ TEST(PndtMapCli, UnknownConfigKeysAndSectionsAreErrorsNamingThem)
     EXPECT_NE(r.out.find("'period'"), std::string::npos) << r.out;
 }
 
+TEST(PndtMapCli, PaperPresetBuildsAMapWithThePapersRulesAndLayersWithHypersim)
+{
+    const fs::path out = tempDir("paper");
+    const RunResult r = run(mapExe() + roomRawlog().string() + " -o " + out.string() + " --preset paper,hypersim");
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto map = pndt::loadMapArchive((out / "map_0000.pndt.gz").string());
+    pndt::MapOptions expected;
+    expected.applyPaperRules();
+    const pndt::MapOptions& o = map->core().options();
+    // The map file keeps the rules it was built with.
+    EXPECT_EQ(o.ray_mode, expected.ray_mode);
+    EXPECT_EQ(o.miss_accumulation, expected.miss_accumulation);
+    EXPECT_EQ(o.instance_class_voxels, expected.instance_class_voxels);
+    EXPECT_EQ(o.semantic_eviction, expected.semantic_eviction);
+    EXPECT_EQ(o.void_bin, expected.void_bin);
+    EXPECT_EQ(o.reset_freed_voxels, expected.reset_freed_voxels);
+    EXPECT_FALSE(o.class_consistent_instances);
+    EXPECT_EQ(o.label_fill_distance, 0.0);
+    // hypersim.ini, layered after paper.ini.
+    EXPECT_EQ(o.theta_z, 0.4);
+    EXPECT_EQ(o.max_range, 20.0);
+    EXPECT_GT(map->core().instances().size(), 0u);
+    const RunResult bad = run(mapExe() + roomRawlog().string() + " -o " + out.string() + " --preset papers");
+    EXPECT_NE(bad.code, 0);
+    EXPECT_NE(bad.out.find("papers"), std::string::npos) << bad.out;
+}
+
 TEST(PndtMapCli, LabelImagesWithoutDepthAreCounted)
 {
     const fs::path out = tempDir("labels_only");
