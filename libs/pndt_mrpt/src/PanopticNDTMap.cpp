@@ -19,6 +19,7 @@ PanopticNDTMap::PanopticNDTMap(const PanopticNDTMap& o)
     : mrpt::maps::CMetricMap(o),
       insertionOptions(pairer_.options),
       renderOptions(o.renderOptions),
+      navigationOptions(o.navigationOptions),
       map_(o.map_),
       pairer_(o.pairer_),
       stats_(o.stats_)
@@ -30,6 +31,7 @@ PanopticNDTMap& PanopticNDTMap::operator=(const PanopticNDTMap& o)
     if (this == &o) return *this;
     mrpt::maps::CMetricMap::operator=(o);
     renderOptions = o.renderOptions;
+    navigationOptions = o.navigationOptions;
     map_ = o.map_;
     pairer_ = o.pairer_;
     stats_ = o.stats_;
@@ -86,33 +88,6 @@ std::string PanopticNDTMap::asString() const
                        o.use_ndt ? "NDT" : "cube", o.classes.size());
 }
 
-bool PanopticNDTMap::internal_canComputeObservationLikelihood(const mrpt::obs::CObservation& obs) const
-{
-    return IS_CLASS(obs, CObservation3DRangeScan) && map_.options().use_ndt;
-}
-
-double PanopticNDTMap::internal_computeObservationLikelihood(const mrpt::obs::CObservation& obs,
-                                                             const mrpt::poses::CPose3D& takenFrom) const
-{
-    // NDT scan likelihood: sum over (decimated) points of the Gaussian
-    // log-likelihood at the nearest voxel Gaussian, truncated for outliers.
-    if (!IS_CLASS(obs, CObservation3DRangeScan)) return 0;
-    const auto& scan = static_cast<const CObservation3DRangeScan&>(obs);
-    PanopticFrame f;
-    depthFrameFrom(scan, f);
-    const Pose T = cameraPoseInWorld(takenFrom, scan.sensorPose);
-    const double outlier = -0.5 * map_.options().query_mahalanobis_sq;
-    double loglik = 0;
-    constexpr int kStep = 8;
-    for (int r = 0; r < f.K.height; r += kStep)
-        for (int c = 0; c < f.K.width; c += kStep)
-        {
-            const float z = f.depth.at(r, c);
-            if (!(z > 0) || z > map_.options().max_range) continue;
-            const PointLabel l = map_.labelAt(T * f.K.unproject(c, r, z));
-            loglik += l.found ? std::max(outlier, -0.5 * l.mahalanobis_sq) : outlier;
-        }
-    return loglik;
-}
+// Likelihood, obstacles, matching: PanopticNDTMap_navigation.cpp.
 
 }  // namespace pndt

@@ -10,7 +10,9 @@
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationImage.h>
 #include <mrpt/poses/CPose3D.h>
+#include <pndt/mrpt/obstacle_cache.h>
 #include <pndt/mrpt/observation_pairer.h>
+#include <pndt/mrpt/scan_likelihood.h>
 #include <pndt/panoptic_map.h>
 
 #include <deque>
@@ -53,6 +55,14 @@ struct InsertionStats
     FrameStats totals;
 };
 
+/// What the navigation side of the map uses (PanopticNDTMap_navigation.cpp).
+/// Settings of the navigator, not of the map: not serialised.
+struct NavigationOptions
+{
+    ObstacleOptions obstacles;    ///< getAsSimplePointsMap()
+    LikelihoodOptions likelihood; ///< computeObservationLikelihood()
+};
+
 class PanopticNDTMap : public mrpt::maps::CMetricMap
 {
     DEFINE_SERIALIZABLE(PanopticNDTMap, pndt)
@@ -62,6 +72,7 @@ class PanopticNDTMap : public mrpt::maps::CMetricMap
 
     InsertionOptions& insertionOptions;  ///< the pairer's options
     RenderOptions renderOptions;
+    NavigationOptions navigationOptions;
 
     const PanopticMap& core() const { return map_; }
     PanopticMap& core() { return map_; }
@@ -81,6 +92,17 @@ class PanopticNDTMap : public mrpt::maps::CMetricMap
     void getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj) const override;
     std::string asString() const override;
 
+    // CMetricMap for navigation and localisation (PanopticNDTMap_navigation.cpp)
+    /// Obstacle points (navigationOptions.obstacles), world frame; cached until the map changes.
+    const mrpt::maps::CSimplePointsMap* getAsSimplePointsMap() const override;
+    using mrpt::maps::CMetricMap::getAsSimplePointsMap;
+    /// Share of the other map's points (at otherMapPose) within
+    /// params.maxMahaDistForCorr (Mahalanobis) of a Gaussian.
+    float compute3DMatchingRatio(const mrpt::maps::CMetricMap* otherMap, const mrpt::poses::CPose3D& otherMapPose,
+                                 const mrpt::maps::TMatchingRatioParams& params) const override;
+    /// Squared 2D distance to the nearest obstacle point (infinity-like 1e10 if none).
+    float squareDistanceToClosestCorrespondence(float x0, float y0) const override;
+
     MAP_DEFINITION_START(PanopticNDTMap)
     MapOptions map_options;
     InsertionOptions insertionOpts;
@@ -94,6 +116,7 @@ class PanopticNDTMap : public mrpt::maps::CMetricMap
     double internal_computeObservationLikelihood(const mrpt::obs::CObservation& obs,
                                                  const mrpt::poses::CPose3D& takenFrom) const override;
     bool internal_canComputeObservationLikelihood(const mrpt::obs::CObservation& obs) const override;
+    void OnPostSuccesfulInsertObs(const mrpt::obs::CObservation&) override;
 
    public:
     PanopticNDTMap(const PanopticNDTMap& o);
@@ -106,6 +129,7 @@ class PanopticNDTMap : public mrpt::maps::CMetricMap
     ObservationPairer pairer_;
     std::vector<PairedFrame> paired_;  ///< reused between observations
     InsertionStats stats_;
+    mutable ObstacleCache obstacle_cache_;
 };
 
 /// Reads all PanopticNDTMap options from an MRPT config source, rejecting any key

@@ -1,0 +1,46 @@
+// The map's instances as objects a navigation app can ask about: class, where
+// (centroid, oriented footprint, height range), how big, how sure.
+#pragma once
+
+#include <pndt/nav/footprint.h>
+#include <pndt/panoptic_map.h>
+
+#include <string>
+#include <vector>
+
+namespace pndt::nav
+{
+struct MapObject
+{
+    uint32_t id = 0;          ///< map instance id
+    uint16_t class_id = 0;
+    std::string class_name;
+    uint32_t voxel_count = 0;
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  ///< mean of its voxels' NDT means
+    Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero(), bbox_max = Eigen::Vector3d::Zero();
+    /// Smallest rectangle around its voxels' means, half a voxel added per side
+    /// (means lie on the surface, up to half a voxel inside the object's edge).
+    Footprint footprint;
+    double z_min = 0, z_max = 0;  ///< of its voxels' means
+    /// Share of its voxels' semantic mass (h^L) on its class: how sure the class is.
+    double class_confidence = 0;
+    /// Share of its voxels' instance mass (h^Z) on its id: how clearly the voxels belong to it.
+    double instance_confidence = 0;
+    /// Pixel updates of its voxels' instance histograms (sum of n^Z): how much it was seen.
+    uint64_t instance_updates = 0;
+    /// The short-term map file it came from (empty for a map being built).
+    std::string source;
+};
+
+/// Every instance of the map (after propagation), by id. Objects smaller than
+/// `min_voxels` are left out (fragments).
+std::vector<MapObject> mapObjects(const PanopticMap& map, const std::string& source = "", uint32_t min_voxels = 1);
+
+/// The object with this id, or nullptr.
+const MapObject* findObject(const std::vector<MapObject>& objects, uint32_t id);
+
+/// A class id from a name in the map's class table ("chair", "chairs", "night stand",
+/// or a number); -1 if unknown. Plurals: -s, -es, -ves (-> f), -ies (-> y).
+int classIdFromName(const ClassSet& classes, const std::string& name);
+
+}  // namespace pndt::nav

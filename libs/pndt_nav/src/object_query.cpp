@@ -1,0 +1,240 @@
+// Reading and answering object queries (object_query.h).
+#include <fmt/format.h>
+#include <pndt/nav/object_query.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <optional>
+#include <set>
+
+namespace pndt::nav
+{
+const char* toString(QueryKind k)
+{
+    switch (k)
+    {
+        case QueryKind::Class: return "class";
+        case QueryKind::MostAround: return "most_around";
+        case QueryKind::FewestAround: return "fewest_around";
+        case QueryKind::CountAround: return "count_around";
+        case QueryKind::HasAround: return "has_around";
+        case QueryKind::Nearest: return "nearest";
+        case QueryKind::OnTopOf: return "on_top_of";
+        case QueryKind::NextTo: return "next_to";
+        case QueryKind::Id: return "id";
+    }
+    return "?";
+}
+
+namespace
+{
+std::vector<std::string> tokenize(const std::string& q)
+{
+    std::string s;
+    for (char c : q)
+    {
+        const unsigned char u = static_cast<unsigned char>(c);
+        s += (std::isalnum(u) || c == '.' || c == '-' || c == '#') ? char(std::tolower(u)) : ' ';
+    }
+    std::vector<std::string> out;
+    size_t i = 0;
+    while (i < s.size())
+    {
+        while (i < s.size() && s[i] == ' ') ++i;
+        size_t j = i;
+        while (j < s.size() && s[j] != ' ') ++j;
+        if (j > i)
+        {
+            std::string t = s.substr(i, j - i);
+            if (t.front() == '#') t.erase(0, 1);
+            while (!t.empty() && t.back() == '.') t.pop_back();  // end of sentence
+            if (!t.empty()) out.push_back(t);
+        }
+        i = j;
+    }
+    return out;
+}
+
+std::optional<double> number(const std::string& t)
+{
+    static const char* words[] = {"zero", "one", "two",   "three",  "four",  "five",  "six",
+                                  "seven", "eight", "nine", "ten", "eleven", "twelve"};
+    for (int i = 0; i <= 12; ++i)
+        if (t == words[i]) return double(i);
+    char* end = nullptr;
+    const double v = std::strtod(t.c_str(), &end);
+    if (end && *end == 0 && end != t.c_str()) return v;
+    return std::nullopt;
+}
+
+struct ClassMention
+{
+    size_t pos = 0, len = 0;
+    int id = -1;
+};
+
+/// Class names at every position, longest first (three words down to one).
+std::vector<ClassMention> classMentions(const std::vector<std::string>& t, const ClassSet& classes)
+{
+    std::vector<ClassMention> out;
+    for (size_t i = 0; i < t.size();)
+    {
+        bool found = false;
+        for (size_t len = std::min<size_t>(3, t.size() - i); len >= 1 && !found; --len)
+        {
+            std::string phrase = t[i];
+            for (size_t k = 1; k < len; ++k) phrase += " " + t[i + k];
+            if (number(phrase)) continue;  // "5" is a count, not class 5
+            const int id = classIdFromName(classes, phrase);
+            if (id > 0)
+            {
+                out.push_back({i, len, id});
+                i += len;
+                found = true;
+            }
+        }
+        if (!found) ++i;
+    }
+    return out;
+}
+
+bool hasWord(const std::vector<std::string>& t, size_t from, size_t to, std::initializer_list<const char*> words)
+{
+    for (size_t i = from; i < std::min(to, t.size()); ++i)
+        for (const char* w : words)
+            if (t[i] == w) return true;
+    return false;
+}
+
+std::string className(const ClassSet& c, int id) { return c.contains(uint32_t(id)) ? c.name(uint32_t(id)) : "?"; }
+
+std::string knownClasses(const ClassSet& classes)
+{
+    std::string s;
+    for (size_t i = 1; i < classes.size(); ++i) s += (s.empty() ? "" : ", ") + classes.name(uint32_t(i));
+    return s;
+}
+}  // namespace
+
+QueryResult runQuery(const std::vector<MapObject>& objects, const ClassSet& classes, const std::string& query,
+                     const RelationOptions& rel)
+{
+    QueryResult r;
+    r.query = query;
+    const std::vector<std::string> t = tokenize(query);
+    if (t.empty()) throw InputError("empty query");
+
+    // "id 12" / "object 12" / "#12"
+    for (size_t i = 0; i + 1 < t.size(); ++i)
+        if ((t[i] == "id" || t[i] == "object" || t[i] == "instance") && number(t[i + 1]))
+        {
+            r.kind = QueryKind::Id;
+            const uint32_t id = uint32_t(*number(t[i + 1]));
+            if (const MapObject* o = findObject(objects, id)) r.matches.push_back({o, {}, 0});
+            r.summary = r.matches.empty() ? fmt::format("no object with id {}", id)
+                                          : fmt::format("object {} is a {}", id, r.matches[0].object->class_name);
+            return r;
+        }
+
+    const std::vector<ClassMention> mentions = classMentions(t, classes);
+    if (mentions.empty())
+        throw InputError(fmt::format("no known class in the query '{}' (the map's classes: {})", query,
+                                     knownClasses(classes)));
+    const ClassMention a = mentions[0];
+    const bool has_b = mentions.size() > 1;
+    const ClassMention b = has_b ? mentions[1] : ClassMention{};
+    r.target_class = a.id;
+    const std::string A = className(classes, a.id);
+    std::vector<double> numbers;
+    std::optional<int> count_between;
+    for (size_t i = 0; i < t.size(); ++i)
+        if (const auto v = number(t[i]))
+        {
+            numbers.push_back(*v);
+            if (has_b && i > a.pos && i < b.pos && *v >= 0 && *v == std::floor(*v)) count_between = int(*v);
+        }
+    std::vector<const MapObject*> of_a;
+    for (const MapObject& o : objects)
+        if (o.class_id == a.id) of_a.push_back(&o);
+
+    const bool nearest_word = hasWord(t, 0, t.size(), {"nearest", "closest", "near"});
+    if (has_b)
+    {
+        r.related_class = b.id;
+        const std::string B = className(classes, b.id);
+        const size_t from = a.pos + a.len, to = b.pos;
+        const bool most = hasWord(t, 0, to, {"most", "more", "many"}), fewest = hasWord(t, 0, to, {"fewest", "least", "fewer"});
+        if (most || fewest || count_between || hasWord(t, from, to, {"with", "has", "having"}))
+        {
+            const auto around = objectsAround(objects, a.id, b.id, rel);
+            for (const MapObject* o : of_a) r.matches.push_back({o, around.at(o->id), 0});
+            std::stable_sort(r.matches.begin(), r.matches.end(), [&](const QueryMatch& x, const QueryMatch& y) {
+                return fewest ? x.related.size() < y.related.size() : x.related.size() > y.related.size();
+            });
+            std::string counts;
+            for (const QueryMatch& m : r.matches)
+                counts += fmt::format("{}{} {}: {}", counts.empty() ? "" : ", ", A, m.object->id, m.related.size());
+            if (most || fewest)
+            {
+                r.kind = most ? QueryKind::MostAround : QueryKind::FewestAround;
+                r.summary = r.matches.empty() ? fmt::format("the map has no {}", A)
+                                              : fmt::format("{} {} has {} {} around it ({} around each {}: {})", A,
+                                                            r.best()->id, r.matches[0].related.size(), B, B, A, counts);
+            }
+            else
+            {
+                r.kind = count_between ? QueryKind::CountAround : QueryKind::HasAround;
+                r.count = count_between.value_or(-1);
+                r.matches.erase(std::remove_if(r.matches.begin(), r.matches.end(),
+                                               [&](const QueryMatch& m) {
+                                                   return count_between ? int(m.related.size()) != *count_between
+                                                                        : m.related.empty();
+                                               }),
+                                r.matches.end());
+                const std::string wanted = count_between ? std::to_string(*count_between) : "any";
+                r.summary = r.matches.empty()
+                                ? fmt::format("no {} with {} {} around it ({} around each {}: {})", A, wanted, B, B, A,
+                                              counts.empty() ? "none" : counts)
+                                : fmt::format("{} {} with {} {} around: {}", r.matches.size(), A, wanted, B, counts);
+            }
+            return r;
+        }
+        if (hasWord(t, from, to, {"on", "onto", "atop", "top"}) || hasWord(t, from, to, {"next", "beside", "by", "near"}))
+        {
+            const bool on_top = hasWord(t, from, to, {"on", "onto", "atop", "top"});
+            r.kind = on_top ? QueryKind::OnTopOf : QueryKind::NextTo;
+            for (const MapObject* o : of_a)
+            {
+                QueryMatch m{o, {}, 0};
+                for (const MapObject& other : objects)
+                    if (other.class_id == b.id &&
+                        (on_top ? isOnTopOf(*o, other, rel) : isNextTo(*o, other, rel)))
+                        m.related.push_back(other.id);
+                if (!m.related.empty()) r.matches.push_back(m);
+            }
+            r.summary = fmt::format("{} {} {} {} {}", r.matches.size(), A, on_top ? "on top of" : "next to", "a", B);
+            return r;
+        }
+    }
+    if (nearest_word)
+    {
+        if (numbers.size() < 2)
+            throw InputError(fmt::format("'{}': nearest to what? give a point as two numbers (x y, metres)", query));
+        r.kind = QueryKind::Nearest;
+        r.point = {numbers[0], numbers[1]};
+        for (const auto& [o, d] : nearestTo(objects, a.id, r.point)) r.matches.push_back({o, {}, d});
+        r.summary = r.matches.empty() ? fmt::format("the map has no {}", A)
+                                      : fmt::format("{} {} is nearest to ({:.2f}, {:.2f}): {:.2f} m", A, r.best()->id,
+                                                    r.point.x(), r.point.y(), r.matches[0].distance);
+        return r;
+    }
+    r.kind = QueryKind::Class;
+    for (const MapObject* o : of_a) r.matches.push_back({o, {}, 0});
+    std::stable_sort(r.matches.begin(), r.matches.end(),
+                     [](const QueryMatch& x, const QueryMatch& y) { return x.object->voxel_count > y.object->voxel_count; });
+    r.summary = fmt::format("{} {} in the map", r.matches.size(), A);
+    return r;
+}
+
+}  // namespace pndt::nav
