@@ -5,6 +5,7 @@
 #include <pndt/data/seg_noise.h>
 #include <pndt/data/sequence_generator.h>
 #include <pndt/eval/panoptic_codec.h>
+#include <pndt/instance_numbering.h>
 #include <pndt/panoptic_map.h>
 
 #include <algorithm>
@@ -545,6 +546,8 @@ RunResult runExperiment(const Plan& plan, const std::string& scene, uint64_t see
         bool need_noprop = false;
         for (const RowSpec* r : s.rows) need_noprop |= r->readout == Readout::NoPropagation;
         // 3D: labelAt over the GT points (the map's nearest Gaussian among 27 voxels).
+        // Instances numbered densely (ids of later short-term maps exceed the 16-bit field).
+        const InstanceNumbering numbering = InstanceNumbering::of(map);
         eval::PredictedLabels prop, noprop;
         prop.semantic.assign(points.size(), 0);
         prop.panoptic.assign(points.size(), 0);
@@ -554,8 +557,9 @@ RunResult runExperiment(const Plan& plan, const std::string& scene, uint64_t see
             const PointLabel l = map.labelAt(points[i]);
             if (!l.found) continue;
             prop.semantic[i] = l.semantic;
-            prop.panoptic[i] = eval::encodePanoptic(l.panoptic.semantic, l.panoptic.instance);
-            if (need_noprop) noprop.panoptic[i] = noPropagationLabel(l.semantic, l.panoptic.instance, classes);
+            const uint32_t ins = numbering.dense(l.panoptic.instance);
+            prop.panoptic[i] = eval::encodePanoptic(l.panoptic.semantic, ins);
+            if (need_noprop) noprop.panoptic[i] = noPropagationLabel(l.semantic, ins, classes);
         }
         if (need_noprop) noprop.semantic = std::vector<uint16_t>(prop.semantic);
         const size_t n_instances = map.instances().size();
@@ -591,14 +595,16 @@ RunResult runExperiment(const Plan& plan, const std::string& scene, uint64_t see
             vp.semantic.assign(view.semantic.data.begin(), view.semantic.data.end());
             vp.panoptic.resize(vp.semantic.size());
             for (size_t i = 0; i < vp.panoptic.size(); ++i)
-                vp.panoptic[i] = eval::encodePanoptic(view.panoptic_semantic.data[i], view.instance.data[i]);
+                vp.panoptic[i] =
+                    eval::encodePanoptic(view.panoptic_semantic.data[i], numbering.dense(view.instance.data[i]));
             eval::PredictedLabels vn;
             if (need_noprop)
             {
                 vn.semantic = std::vector<uint16_t>(vp.semantic);
                 vn.panoptic.resize(vp.semantic.size());
                 for (size_t i = 0; i < vn.panoptic.size(); ++i)
-                    vn.panoptic[i] = noPropagationLabel(view.semantic.data[i], view.instance.data[i], classes);
+                    vn.panoptic[i] =
+                        noPropagationLabel(view.semantic.data[i], numbering.dense(view.instance.data[i]), classes);
             }
             std::shared_ptr<const std::vector<uint32_t>> gtv;
             for (const RowSpec* r : s.rows)

@@ -99,6 +99,18 @@ void expectIdentical(const Built& a, const Built& b)
         EXPECT_TRUE(p.weights == q.weights) << i;
     }
     EXPECT_EQ(x.nextInstanceId(), y.nextInstanceId());
+    const auto sx = x.semanticSpills().sorted(), sy = y.semanticSpills().sorted();
+    ASSERT_EQ(sx.size(), sy.size());
+    for (size_t i = 0; i < sx.size(); ++i)
+    {
+        EXPECT_EQ(sx[i].first, sy[i].first);
+        ASSERT_EQ(sx[i].second->entries.size(), sy[i].second->entries.size());
+        for (size_t j = 0; j < sx[i].second->entries.size(); ++j)
+        {
+            EXPECT_EQ(sx[i].second->entries[j].cls, sy[i].second->entries[j].cls);
+            EXPECT_EQ(sx[i].second->entries[j].weight, sy[i].second->entries[j].weight);
+        }
+    }
     const FrameStats &s = a.totals, &t = b.totals;
     EXPECT_EQ(s.valid_pixels, t.valid_pixels);
     EXPECT_EQ(s.skipped_invalid_depth, t.skipped_invalid_depth);
@@ -153,6 +165,38 @@ TEST(ThreadsIdentical, FineVoxelsPerPixelRaysAndCubes)
         const Built one = build(d, o);
         o.threads = 3;
         expectIdentical(one, build(d, o));
+    }
+}
+
+TEST(ThreadsIdentical, ThePapersPerRayMissesAndDenseHistograms)
+{
+    // Per-ray misses (summed as integers) and h^L without eviction (spills
+    // applied after the parallel pass): again the same bits for any thread count.
+    Frames d = roomFrames(6, 256, 192);
+    // Half the pixels a random class: voxels see more than 8 classes.
+    std::mt19937 rng(9);
+    std::uniform_int_distribution<int> cls(1, 40), coin(0, 1);
+    for (PanopticFrame& f : d.frames)
+        for (auto& c : f.semantic.data)
+            if (coin(rng)) c = uint16_t(cls(rng));
+    for (int variant = 0; variant < 3; ++variant)
+    {
+        SCOPED_TRACE(variant);
+        MapOptions o;
+        if (variant != 2) o.miss_accumulation = MissAccumulation::PerRay;
+        if (variant == 1) o.ray_mode = RayMode::PerPixel;
+        if (variant == 2) o.semantic_eviction = false;
+        o.threads = 1;
+        const Built one = build(d, o);
+        if (variant == 2)
+        {
+            ASSERT_GT(one.map.semanticSpills().size(), 100u);
+        }
+        for (int threads : {2, 3})
+        {
+            o.threads = threads;
+            expectIdentical(one, build(d, o));
+        }
     }
 }
 

@@ -173,3 +173,50 @@ TEST(MapEval2D, RenderedViewAgainstTheFrameGt)
     pndt::Image<uint32_t> small_i(8, 8);
     EXPECT_THROW(evaluateView(map, Pose::Identity(), f.K, small, small_i, ev), InputError);
 }
+
+TEST(MapEval3D, MapsWithInstanceIdsAbove16BitsEvaluateLikeTheFirstMap)
+{
+    // A short-term map after a hand-over numbers its instances from a block above 65535; its
+    // evaluation numbers them densely and gives the same labels and metrics as the first map.
+    const PanopticMap first = buildMap(true);
+    MapOptions o;
+    PanopticMap later(o);
+    later.reserveInstanceIds(2 * 65536 + 1);
+    const PanopticFrame f = labelledWall();
+    for (int i = 0; i < 4; ++i) later.integrate(f, Pose::Identity());
+    ASSERT_EQ(later.instances().size(), 1u);
+    EXPECT_EQ(later.instances()[0].id, 2u * 65536 + 1);
+
+    std::vector<Eigen::Vector3d> pts = wallPoints(false);
+    for (const auto& p : wallPoints(true)) pts.push_back(p);
+    std::vector<uint32_t> gt(pts.size(), encodePanoptic(kWall, 0));
+    for (size_t i = pts.size() / 2; i < pts.size(); ++i) gt[i] = encodePanoptic(kPicture, 7);
+
+    PanopticEvaluator ev_first(Benchmark::scannet20()), ev_later(Benchmark::scannet20());
+    std::vector<uint32_t> confidence_asked;
+    const InstanceConfidence confidence = [&](uint16_t, uint32_t id) {
+        confidence_asked.push_back(id);
+        return 0.5;
+    };
+    const PredictedLabels a = evaluatePoints(first, pts, gt, ev_first);
+    const PredictedLabels b = evaluatePoints(later, pts, gt, ev_later, PointLookup::Map, confidence);
+    EXPECT_EQ(b.panoptic, a.panoptic);
+    EXPECT_EQ(instanceOf(b.panoptic.back()), 1u);
+    EXPECT_DOUBLE_EQ(ev_later.result().pq.all.pq, ev_first.result().pq.all.pq);
+    EXPECT_DOUBLE_EQ(ev_later.result().ap.ap50, 1.0);
+    // The confidence callback speaks the map's own ids.
+    ASSERT_FALSE(confidence_asked.empty());
+    for (uint32_t id : confidence_asked) EXPECT_EQ(id, 2u * 65536 + 1);
+
+    // 2D: the rendered view too.
+    PanopticEvaluator ev2(Benchmark::scannet20());
+    RenderedView view;
+    const PredictedLabels v = evaluateView(later, Pose::Identity(), f.K, f.semantic, f.instance, ev2, &view);
+    const InstanceNumbering numbering = InstanceNumbering::of(later);
+    for (size_t i = 0; i < v.size(); ++i)
+    {
+        EXPECT_EQ(instanceOf(v.panoptic[i]), numbering.dense(view.instance.data[i]));
+        EXPECT_LE(instanceOf(v.panoptic[i]), 1u);
+    }
+    EXPECT_DOUBLE_EQ(ev2.result().ap.ap50, 1.0);
+}

@@ -12,6 +12,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 
 #include "observation_fixtures.h"
 
@@ -79,6 +81,18 @@ void expectSameState(const PanopticMap& a, const PanopticMap& b)
     }
     EXPECT_EQ(a.nextInstanceId(), b.nextInstanceId());
     EXPECT_EQ(a.pairEvidence(), b.pairEvidence());
+    const auto sa = a.semanticSpills().sorted(), sb = b.semanticSpills().sorted();
+    ASSERT_EQ(sa.size(), sb.size());
+    for (size_t i = 0; i < sa.size(); ++i)
+    {
+        EXPECT_EQ(sa[i].first, sb[i].first);
+        ASSERT_EQ(sa[i].second->entries.size(), sb[i].second->entries.size());
+        for (size_t j = 0; j < sa[i].second->entries.size(); ++j)
+        {
+            EXPECT_EQ(sa[i].second->entries[j].cls, sb[i].second->entries[j].cls);
+            EXPECT_EQ(floatBits(sa[i].second->entries[j].weight), floatBits(sb[i].second->entries[j].weight));
+        }
+    }
 }
 
 std::vector<uint8_t> serialize(const mrpt::serialization::CSerializable& o)
@@ -294,6 +308,41 @@ MapOptions versionOneRules()
     return o;
 }
 
+TEST(PluginSerialization, RoundTripKeepsTheSemanticSpillOfADenseHistogramMap)
+{
+    // The paper's h^L without eviction: ten classes per wall voxel, two of them
+    // in the map's spill; the file keeps them, and a damaged spill is refused.
+    MapOptions o;
+    o.semantic_eviction = false;
+    o.miss_accumulation = MissAccumulation::PerRay;
+    auto m = PanopticNDTMap::Create(o);
+    PanopticFrame f;
+    f.K = {64, 48, 32.0, 32.0, 31.5, 23.5};
+    f.depth.resize(64, 48, 2.0f);
+    f.semantic_score.resize(64, 48, 0.9f);
+    for (uint16_t c = 1; c <= 10; ++c)
+    {
+        f.semantic.resize(64, 48, c);
+        std::fill(f.semantic.data.begin(), f.semantic.data.end(), c);
+        m->core().integrate(f, Pose::Identity());
+    }
+    ASSERT_GT(m->core().semanticSpills().size(), 100u);
+    const auto back = std::dynamic_pointer_cast<PanopticNDTMap>(deserialize(serialize(*m)));
+    ASSERT_TRUE(back);
+    expectSameState(m->core(), back->core());
+    EXPECT_EQ(back->core().options().miss_accumulation, MissAccumulation::PerRay);
+    EXPECT_FALSE(back->core().options().semantic_eviction);
+
+    // A spilled class heavier than the record's weakest entry, or one the record holds.
+    auto spills = m->core().semanticSpills().sorted();
+    std::vector<std::pair<uint32_t, SemanticSpill>> bad;
+    for (const auto& [li, sp] : spills) bad.emplace_back(li, *sp);
+    bad[0].second.entries[0].weight = 1e6f;
+    EXPECT_THROW(back->core().restoreSpills(bad), std::invalid_argument);
+    bad[0].second.entries[0] = {uint8_t(m->core().labelRecords()[bad[0].first].semantic.top()), 0.1f};
+    EXPECT_THROW(back->core().restoreSpills(bad), std::invalid_argument);
+}
+
 TEST(PluginSerialization, OldVersionsLoadWithTheRulesTheyWereBuiltWith)
 {
     // A payload without the options added later (version 0/1 layout) written
@@ -463,13 +512,21 @@ TEST(PluginFiles, AtomicWriteLeavesNothingBehindOnFailure)
     fs::remove_all(dir);
 }
 
-TEST(PluginFiles, PlyHasOneVertexPerOccupiedVoxelWithLabels)
+namespace
+{
+struct PlyVertex
+{
+    uint16_t semantic;
+    uint32_t instance, label;
+};
+
+/// The map's PLY, written and read back (after checking the header and the size).
+std::vector<PlyVertex> plyVertices(const PanopticNDTMap& m)
 {
     const fs::path dir = tempDir();
-    const auto m = labelledMap();
-    m->saveMetricMapRepresentationToFile((dir / "map").string());
+    m.saveMetricMapRepresentationToFile((dir / "map").string());
     const fs::path ply = dir / "map.ply";
-    ASSERT_TRUE(fs::exists(ply));
+    EXPECT_TRUE(fs::exists(ply));
     std::ifstream f(ply, std::ios::binary);
     std::string line, header;
     size_t vertices = 0;
@@ -478,25 +535,72 @@ TEST(PluginFiles, PlyHasOneVertexPerOccupiedVoxelWithLabels)
         header += line + "\n";
         if (line.rfind("element vertex ", 0) == 0) vertices = std::stoul(line.substr(15));
     }
-    EXPECT_EQ(vertices, m->core().occupiedCount());
+    EXPECT_EQ(vertices, m.core().occupiedCount());
     EXPECT_NE(header.find("property ushort semantic"), std::string::npos);
     EXPECT_NE(header.find("property uint instance"), std::string::npos);
     const size_t payload = fs::file_size(ply) - size_t(f.tellg());
     EXPECT_EQ(payload, vertices * (12 + 3 + 2 + 4 + 4 + 4));
-    // Some vertex carries the chair instance with class 5 in `label`.
-    bool chair = false;
-    for (size_t i = 0; i < vertices; ++i)
+    std::vector<PlyVertex> out(vertices);
+    for (PlyVertex& v : out)
     {
         char rec[29];
         f.read(rec, 29);
-        uint16_t sem;
-        uint32_t inst, label;
-        std::memcpy(&sem, rec + 15, 2);
-        std::memcpy(&inst, rec + 17, 4);
-        std::memcpy(&label, rec + 21, 4);
-        EXPECT_EQ(label, (uint32_t(sem) << 16) | inst);
-        chair |= sem == 5 && inst != 0;
+        std::memcpy(&v.semantic, rec + 15, 2);
+        std::memcpy(&v.instance, rec + 17, 4);
+        std::memcpy(&v.label, rec + 21, 4);
+    }
+    fs::remove_all(dir);
+    return out;
+}
+}  // namespace
+
+TEST(PluginFiles, PlyHasOneVertexPerOccupiedVoxelWithLabels)
+{
+    const auto m = labelledMap();
+    bool chair = false;
+    for (const PlyVertex& v : plyVertices(*m))
+    {
+        // A single map's ids start at 1 without gaps: the label carries the id itself.
+        EXPECT_EQ(v.label, (uint32_t(v.semantic) << 16) | v.instance);
+        chair |= v.semantic == 5 && v.instance != 0;
     }
     EXPECT_TRUE(chair);
-    fs::remove_all(dir);
+}
+
+TEST(PluginFiles, PlyLabelsOfAMapAfterAHandOverNumberItsInstancesDensely)
+{
+    // A later short-term map holds an instance carried over from the map before
+    // (id 2) and new ones from its own id block above 65535 (65538, ...). The
+    // label's 16-bit instance field gets each instance's rank, so the labels equal
+    // the first map's and no two instances share one (cutting ids to their low 16
+    // bits gave 2 and 65538 the same label).
+    const auto first = labelledMap();
+    auto later = PanopticNDTMap::Create(MapOptions{});
+    later->core().reserveInstanceIds(65536 + 1);
+    for (int i = 0; i < 4; ++i)
+    {
+        const mrpt::poses::CPose3D robot(0.0, 0.05 * i, 0.0, 0.02 * i, 0.0, 0.0);
+        later->insertObservation(*fixtures::wallScan(i), robot);
+        later->insertObservation(*fixtures::semanticImage(i), robot);
+        later->insertObservation(*fixtures::instanceImage(i), robot);
+    }
+    later->insertObservation(*fixtures::wallScan(9, 2.5f), mrpt::poses::CPose3D());
+    later->flushPending();
+    later->core().renameInstances([](uint32_t id) { return id == 65536 + 1 ? 2u : id; });
+    const std::vector<PlyVertex> a = plyVertices(*first), b = plyVertices(*later);
+    ASSERT_EQ(a.size(), b.size());
+    std::map<uint32_t, uint32_t> label_of_instance;
+    for (size_t i = 0; i < a.size(); ++i)
+    {
+        EXPECT_EQ(b[i].label, a[i].label);
+        if (b[i].instance == 0) continue;
+        EXPECT_EQ(b[i].instance, a[i].instance == 1 ? 2u : 65536 + a[i].instance);  // the same instances, renamed
+        const auto [it, inserted] = label_of_instance.emplace(b[i].instance, b[i].label);
+        EXPECT_EQ(it->second, b[i].label);
+    }
+    ASSERT_TRUE(label_of_instance.count(2));
+    ASSERT_TRUE(label_of_instance.count(65536 + 2));  // the pair the 16-bit cut merged
+    std::set<uint32_t> labels;
+    for (const auto& [ins, label] : label_of_instance) labels.insert(label);
+    EXPECT_EQ(labels.size(), label_of_instance.size());
 }

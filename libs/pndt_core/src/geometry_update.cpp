@@ -7,7 +7,8 @@
 // number of bands, and the sample sums are integers, so their order does not
 // matter. Rays are cast in small chunks, each thread first from its own share
 // of them; each thread records the strongest miss per voxel in its own brick
-// blocks; the minimum over the threads is again order-free, and new voxels are
+// blocks (or, MissAccumulation::PerRay, the integer sum of every ray's miss);
+// the minimum (sum) over the threads is again order-free, and new voxels are
 // created in brick order.
 #include <pndt/free_space.h>
 
@@ -483,6 +484,7 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
 {
     Scratch& s = *scratch_;
     const bool merged = options_.ray_mode == RayMode::Merged;
+    const bool per_ray = options_.miss_accumulation == MissAccumulation::PerRay;
     const HitSlot* hits = s.hits();
     const double vs = grid_.voxelSize();
     const double q = vs / kSampleScale;
@@ -506,6 +508,7 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
             {
                 const int slot = word * 64 + __builtin_ctzll(m);
                 blk->state[slot] = RayBlock::kUnseen;
+                blk->crossings[slot] = 0;
             }
         std::memset(blk->touched, 0, sizeof(blk->touched));
         for (auto& nb : blk->neighbour) nb = nullptr;
@@ -529,6 +532,7 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
         mg.mean = g.mean;
         mg.info = g.info;
         mg.delta = 0.f;
+        mg.sum = 0;
         return int32_t(w.gaussian_count);
     };
 
@@ -632,8 +636,13 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
         {
             MissGaussian& g = w.gaussians[size_t(state - 1)];
             const float delta = float(rule(g.mean, g.info, origin, L.dir, L.end, L.sigma_end));
-            if (delta < g.delta) g.delta = delta;
+            if (per_ray)
+                g.sum += std::llround(double(delta) / kMissQuantum);
+            else if (delta < g.delta)
+                g.delta = delta;
         }
+        else if (per_ray && state == RayBlock::kConstant)
+            ++blk->crossings[slot];
         if (--L.remaining == 0) return false;
         // Next voxel, without branches: the axis of the smallest t_max, ties
         // broken as walkSegment does (x before z, y before z, y before x).
@@ -679,6 +688,7 @@ void PanopticMap::applyMisses(FrameStats& st)
     const float log_odds_min = options_.log_odds_min;
     const float occupied_threshold = options_.occupied_threshold;
     const bool reset_freed = options_.reset_freed_voxels;
+    const bool per_ray = options_.miss_accumulation == MissAccumulation::PerRay;
     const auto& refs = s.block_refs;
     const int threads = s.pool ? s.threads : 1;
     s.miss_groups.clear();
@@ -721,18 +731,29 @@ void PanopticMap::applyMisses(FrameStats& st)
                 const uint32_t slot = uint32_t(word * 64 + __builtin_ctzll(m));
                 float delta = 0.f;
                 bool gaussian = false;
+                // PerRay: every crossing ray's miss, summed (the paper's NDT-OM update;
+                // clamping the sum once equals clamping after each ray, all being <= 0).
+                uint64_t crossings = 0;
+                int64_t sum = 0;
                 for (size_t j = a; j < b; ++j)
                 {
                     const RayWorker& w = s.ray_workers[refs[j].worker];
-                    const int32_t state = w.blocks[refs[j].block]->state[slot];
+                    const RayBlock& blk = *w.blocks[refs[j].block];
+                    const int32_t state = blk.state[slot];
                     if (state == RayBlock::kConstant)
+                    {
                         delta = std::min(delta, constant_miss);
+                        crossings += blk.crossings[slot];
+                    }
                     else if (state > 0)
                     {
-                        delta = std::min(delta, w.gaussians[size_t(state - 1)].delta);
+                        const MissGaussian& mg = w.gaussians[size_t(state - 1)];
+                        delta = std::min(delta, mg.delta);
+                        sum += mg.sum;
                         gaussian = true;
                     }
                 }
+                if (per_ray) delta = float(double(crossings) * constant_miss + double(sum) * kMissQuantum);
                 c.gaussians += gaussian;
                 if (!(delta < 0.f)) continue;
                 ++c.misses;

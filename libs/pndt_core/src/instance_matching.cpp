@@ -91,7 +91,8 @@ void PanopticMap::matchInstances(const PanopticFrame& f, const Pose& T, FrameSta
             const Voxel& v = store_[vi];
             if (!isOccupied(v)) continue;
             const LabelRecord* rec = labelsOf(v);
-            if (!rec || rec->instances == kNoRecord || !isThing(*rec, options_.classes, options_.theta_st)) continue;
+            if (!rec || rec->instances == kNoRecord || !isThing(*rec, options_.classes, options_.theta_st, spillOf(v)))
+                continue;
             const auto& hist = instance_records_[rec->instances].hist;
             for (int j = 0, n = hist.size(); j < n; ++j)
                 if (isInTopZ(hist, hist.ids[j], options_.theta_b)) part.emplace_back(hist.ids[j], vi);
@@ -304,7 +305,10 @@ void PanopticMap::classifyMapInstances()
     {
         std::fill(s.class_mass.begin(), s.class_mass.end(), 0.f);
         for (size_t c = s.groups[gi].first; c < s.groups[gi].second; ++c)
-            addThingMass(*labelsOf(store_[s.candidates[c].second]), classes, s.class_mass.data());
+        {
+            const Voxel& v = store_[s.candidates[c].second];
+            addThingMass(*labelsOf(v), classes, s.class_mass.data(), spillOf(v));
+        }
         const auto best = std::max_element(s.class_mass.begin(), s.class_mass.end());
         if (*best > 0) s.group_class[gi] = uint16_t(best - s.class_mass.begin());
     }
@@ -342,7 +346,7 @@ void PanopticMap::splitMergedPredictions(const PanopticFrame& f, FrameStats& st)
             ++st.split_predictions;
             s.split_pixels = true;
             for (size_t c = s.groups[gi].first; c < s.groups[gi].second; ++c)
-                if (ownThingClass(*labelsOf(store_[s.candidates[c].second]), classes) != g.cls[p])
+                if (const Voxel& v = store_[s.candidates[c].second]; ownThingClass(*labelsOf(v), classes, spillOf(v)) != g.cls[p])
                     forEachFootprintPixel(s.footprints[c], s.footprints[c].r0, s.footprints[c].r1 + 1, f,
                                           [&](size_t i, int32_t q) {
                                               if (q != int32_t(p)) return;

@@ -115,6 +115,14 @@ void PanopticMap::updateHistograms(const PanopticFrame& f, FrameStats& st)
         s.pool->run(tasks, join);
     else
         join(0);
+    // Classes beyond full records (semantic_eviction = false), task by task: each
+    // voxel's pixels in pixel order, whatever the number of tasks.
+    for (int t = 0; t < tasks; ++t)
+        for (const HistogramWorker::SpilledPixel& p : s.hist_workers[size_t(t)].spilled)
+        {
+            const uint32_t li = surfaces_[store_[hits[p.slot].voxel].surface].labels;
+            spills_.add(li, labels_[li], p.cls, p.score);
+        }
     for (int t = 0; t < tasks; ++t)
     {
         st.semantic_updates += s.hist_workers[size_t(t)].semantic_updates;
@@ -130,6 +138,7 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
     const uint32_t home_begin = band.home_begin, home_end = band.home_end;
     w.labels.clear();
     w.instances.clear();
+    w.spilled.clear();
     std::fill(s.new_label.begin() + home_begin, s.new_label.begin() + home_end, kNoRecord);
     std::fill(s.new_instance.begin() + home_begin, s.new_instance.begin() + home_end, kNoRecord);
     std::fill(s.slot_records.begin() + home_begin, s.slot_records.begin() + home_end, SlotRecords{});
@@ -145,6 +154,7 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
     const bool instances = f.hasInstances();
     const float theta_l = float(options_.theta_l), theta_z = float(options_.theta_z);
     const uint16_t void_id = options_.void_bin ? kVoidBin : 0;  // 0: void pixels leave h^L alone
+    const bool spill = !options_.semantic_eviction;
     const uint16_t* sem = f.semantic.data.data();
     const float* sem_score = f.semantic_score.data.data();
     const int32_t* predicted = instances ? s.pixel_predicted.data() : nullptr;
@@ -262,8 +272,17 @@ void PanopticMap::histogramTask(const PanopticFrame& f, int task)
             ++semantic_updates;
             flushSemantic();
             LabelRecord& r = labelRecord();
-            startRun(r.semantic, uint8_t(L), sl, r.n_l, run_li, run_lw, run_nl);
-            run_l = uint8_t(L);
+            if (spill && r.semantic.size() == LabelRecord::kSemanticCapacity && r.semantic.indexOf(uint8_t(L)) < 0)
+            {
+                // A ninth class: no eviction, it waits for the spill (no run).
+                w.spilled.push_back({uint32_t(cur), uint8_t(L), sl});
+                ++r.n_l;
+            }
+            else
+            {
+                startRun(r.semantic, uint8_t(L), sl, r.n_l, run_li, run_lw, run_nl);
+                run_l = uint8_t(L);
+            }
         }
     };
     if (s.band_count == 1)

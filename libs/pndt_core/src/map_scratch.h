@@ -143,12 +143,17 @@ struct ProjectionBand
     }
 };
 
+/// Per-ray misses (MissAccumulation::PerRay) are summed as integers in these
+/// units: the sum is the same whichever thread cast which ray.
+constexpr double kMissQuantum = 1.0 / (1 << 24);
+
 /// Gaussian of a voxel a ray passes, as the miss rule needs it.
 struct MissGaussian
 {
     Eigen::Vector3d mean;
     Eigen::Matrix3d info;
     float delta = 0;  ///< strongest (most negative) miss of this task's rays so far
+    int64_t sum = 0;  ///< PerRay: sum of this task's rays' misses, in kMissQuantum
 };
 
 /// One brick as seen by one ray task in this frame.
@@ -162,6 +167,8 @@ struct RayBlock
     /// kUnseen, kSkip, kConstant (the miss is log_odds_miss whatever the ray) or
     /// 1 + index of the voxel's MissGaussian, which holds its strongest miss.
     int32_t state[VoxelStore::kBrickSlots];
+    /// PerRay: rays of this task that crossed a kConstant slot.
+    uint32_t crossings[VoxelStore::kBrickSlots];
     uint64_t touched[VoxelStore::kBrickSlots / 64];  ///< slots visited in this use
     RayBlock* neighbour[6];  ///< this task's blocks of the 6 face neighbours (-x,+x,-y,+y,-z,+z), once known
 };
@@ -284,6 +291,16 @@ struct SlotRecords
 /// One histogram task: the voxels of one projection band, and the records it created.
 struct HistogramWorker
 {
+    /// A pixel's semantic update that found its voxel's record full without its
+    /// class (semantic_eviction = false): applied through the map's spill after
+    /// the pass, serially, in the task's pixel order.
+    struct SpilledPixel
+    {
+        uint32_t slot;
+        uint8_t cls;
+        float score;
+    };
+    std::vector<SpilledPixel> spilled;
     uint64_t semantic_updates = 0, instance_updates = 0;
     std::vector<LabelRecord> labels;        ///< new records of this frame, until they join the pool
     std::vector<InstanceRecord> instances;

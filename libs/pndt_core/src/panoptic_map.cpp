@@ -56,6 +56,7 @@ PanopticMap::PanopticMap(const PanopticMap& o)
       surfaces_(o.surfaces_),
       labels_(o.labels_),
       instance_records_(o.instance_records_),
+      spills_(o.spills_),
       next_instance_id_(o.next_instance_id_),
       min_var_(o.min_var_),
       scratch_(std::make_unique<Scratch>()),
@@ -99,6 +100,7 @@ void PanopticMap::clear()
     surfaces_.clear();
     labels_.clear();
     instance_records_.clear();
+    spills_.clear();
     next_instance_id_ = 1;
     scratch_->pair_evidence.clear();
     invalidate();
@@ -224,6 +226,7 @@ void PanopticMap::resetVoxelContents(Voxel& v)
     sr.shape.reset();
     if (sr.labels == kNoRecord) return;
     LabelRecord& r = labels_[sr.labels];
+    spills_.erase(sr.labels);
     const uint32_t inst = r.instances;
     r = LabelRecord{};
     r.instances = inst;  // keep the pooled record for reuse
@@ -242,7 +245,7 @@ PanopticMap::MemoryUse PanopticMap::memoryUse() const
     MemoryUse m;
     m.voxels = store_.memoryBytes();
     m.surfaces = surfaces_.bytesUsed();
-    m.labels = labels_.bytesUsed();
+    m.labels = labels_.bytesUsed() + spills_.memoryBytes();
     m.instances = instance_records_.bytesUsed();
     m.propagation = prop_->instance_class.bucket_count() * (sizeof(std::pair<uint32_t, uint16_t>) + 4) +
                     prop_->instances.capacity() * sizeof(MapInstance) +
@@ -314,7 +317,36 @@ void PanopticMap::restore(const std::vector<uint64_t>& keys, std::vector<Voxel> 
     labels_.assign(labels.begin(), labels.end());
     instance_records_.assign(instance_records.begin(), instance_records.end());
     next_instance_id_ = next_instance_id;
+    spills_.clear();
     scratch_->pair_evidence.clear();
+    invalidate();
+}
+
+void PanopticMap::restoreSpills(const std::vector<std::pair<uint32_t, SemanticSpill>>& spills)
+{
+    spills_.clear();
+    for (const auto& [li, spill] : spills)
+    {
+        if (li >= labels_.size())
+            throw std::invalid_argument(fmt::format("semantic spill of label record {} of {}", li, labels_.size()));
+        const auto& h = labels_[li].semantic;
+        if (h.size() < LabelRecord::kSemanticCapacity)
+            throw std::invalid_argument(fmt::format("label record {} has a semantic spill but room in its record", li));
+        const float smallest = h.weight(LabelRecord::kSemanticCapacity - 1);
+        for (const auto& e : spill.entries)
+        {
+            if (!(options_.classes.contains(e.cls) || (options_.void_bin && e.cls == kVoidBin)) || h.indexOf(e.cls) >= 0)
+                throw std::invalid_argument(
+                    fmt::format("semantic spill of label record {} holds class {} outside the class set or twice", li, e.cls));
+            // (Quantised record weights round: a spilled weight may exceed the smallest by that much.)
+            if (!(e.weight > 0.f) || e.weight > smallest * (1.f + 1e-3f) + 1e-6f)
+                throw std::invalid_argument(fmt::format(
+                    "semantic spill of label record {}: class {} weighs {}, outside (0, {}]", li, e.cls, e.weight, smallest));
+        }
+        if (spills_.find(li))
+            throw std::invalid_argument(fmt::format("label record {} has two semantic spills", li));
+        spills_.set(li, spill);
+    }
     invalidate();
 }
 

@@ -30,7 +30,7 @@ void PanopticMap::classifyInstances() const
         const auto [it, inserted] = row_of.try_emplace(z, uint32_t(row_of.size()));
         if (inserted) class_mass.resize(class_mass.size() + C, 0.0);
         double* row = &class_mass[size_t(it->second) * C];
-        addThingMass(rec, options_.classes, row);
+        addThingMass(rec, options_.classes, row, spillOf(store_[uint32_t(i)]));
     }
     pr.instance_class.clear();
     pr.instance_class.reserve(row_of.size());
@@ -65,7 +65,7 @@ void PanopticMap::ensurePropagated() const
             const uint32_t z = topInstance(v);
             if (z == 0) continue;
             const LabelRecord& rec = *labelsOf(v);
-            const uint16_t own = ownThingClass(rec, options_.classes);
+            const uint16_t own = ownThingClass(rec, options_.classes, spillOf(v));
             if (own == 0 || own == pr.instance_class.at(z)) continue;
             const auto& hist = instance_records_[rec.instances].hist;
             for (int j = 1, n = hist.size(); j < n; ++j)  // by weight, strongest first
@@ -296,7 +296,8 @@ uint32_t PanopticMap::topInstance(const Voxel& v) const
     const LabelRecord* rec = labelsOf(v);
     if (!rec || rec->instances == kNoRecord) return 0;
     const InstanceRecord& z = instance_records_[rec->instances];
-    return isPanopticThing(*rec, z, options_.classes, options_.theta_st, options_.theta_o) ? z.hist.top() : 0;
+    return isPanopticThing(*rec, z, options_.classes, options_.theta_st, options_.theta_o, spillOf(v)) ? z.hist.top()
+                                                                                                        : 0;
 }
 
 void PanopticMap::finalize() const { ensurePropagated(); }

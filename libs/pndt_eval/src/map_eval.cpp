@@ -9,6 +9,7 @@ namespace pndt::eval
 PredictedLabels labelPoints(const PanopticMap& map, const std::vector<Eigen::Vector3d>& points, PointLookup lookup)
 {
     map.finalize();
+    const InstanceNumbering numbering = InstanceNumbering::of(map);
     PredictedLabels out;
     out.semantic.assign(points.size(), 0);
     out.panoptic.assign(points.size(), 0);
@@ -28,26 +29,31 @@ PredictedLabels labelPoints(const PanopticMap& map, const std::vector<Eigen::Vec
         if (voxel == kNoRecord) continue;
         const PanopticLabel pl = map.panopticLabel(voxel);
         out.semantic[i] = map.semanticLabel(voxel);
-        out.panoptic[i] = encodePanoptic(pl.semantic, pl.instance);
+        out.panoptic[i] = encodePanoptic(pl.semantic, numbering.dense(pl.instance));
     }
     return out;
 }
 
-PredictedLabels viewLabels(const RenderedView& view)
+PredictedLabels viewLabels(const RenderedView& view, const InstanceNumbering& numbering)
 {
     PredictedLabels out;
     out.semantic = view.semantic.data;
     out.panoptic.resize(view.panoptic_semantic.size());
     for (size_t i = 0; i < out.panoptic.size(); ++i)
-        out.panoptic[i] = encodePanoptic(view.panoptic_semantic.data[i], view.instance.data[i]);
+        out.panoptic[i] = encodePanoptic(view.panoptic_semantic.data[i], numbering.dense(view.instance.data[i]));
     return out;
 }
 
 namespace
 {
-std::vector<InstancePrediction> instancesOf(const PredictedLabels& p, const Benchmark& b, const InstanceConfidence& c)
+// The labels carry dense numbers; the caller's confidence speaks map ids.
+std::vector<InstancePrediction> instancesOf(const PredictedLabels& p, const Benchmark& b, const InstanceConfidence& c,
+                                            const InstanceNumbering& numbering)
 {
-    return instancesFromPanoptic(p.panoptic, b, c);
+    if (!c) return instancesFromPanoptic(p.panoptic, b, c);
+    return instancesFromPanoptic(p.panoptic, b, [&](uint16_t semantic, uint32_t dense) {
+        return c(semantic, numbering.mapId(dense));
+    });
 }
 }  // namespace
 
@@ -59,7 +65,7 @@ PredictedLabels evaluatePoints(const PanopticMap& map, const std::vector<Eigen::
         throw InputError("evaluatePoints: " + std::to_string(points.size()) + " points but " +
                          std::to_string(gt_panoptic.size()) + " GT labels");
     PredictedLabels pred = labelPoints(map, points, lookup);
-    eval.add(gt_panoptic, pred, instancesOf(pred, eval.benchmark(), confidence));
+    eval.add(gt_panoptic, pred, instancesOf(pred, eval.benchmark(), confidence, InstanceNumbering::of(map)));
     return pred;
 }
 
@@ -75,9 +81,10 @@ PredictedLabels evaluateView(const PanopticMap& map, const Pose& T_world_cam, co
     RenderedView local;
     RenderedView& view = view_out ? *view_out : local;
     map.render(T_world_cam, K, view);
-    PredictedLabels pred = viewLabels(view);
+    const InstanceNumbering numbering = InstanceNumbering::of(map);
+    PredictedLabels pred = viewLabels(view, numbering);
     const std::vector<uint32_t> gt = encodePanoptic(gt_semantic.data, gt_instance.data);
-    eval.add(gt, pred, instancesOf(pred, eval.benchmark(), confidence));
+    eval.add(gt, pred, instancesOf(pred, eval.benchmark(), confidence, numbering));
     return pred;
 }
 

@@ -5,7 +5,10 @@
 // reset_freed_voxels (bool), miss_accumulation (u8), instance_class_voxels (u8),
 // semantic_eviction (bool), void_bin (bool), fragment_min_mask_pixels (u32),
 // fragment_cover_share (f64) and fragment_joint_factor (f64) after
-// label_fill_distance.
+// label_fill_distance, and at the end the semantic spills (classes of h^L beyond
+// a full label record, semantic_eviction = false): count (u64), label record
+// (u32 array), entries per spill (u8 array), then all entries' classes (u8) and
+// weights (f32). The stored h^L sum and stuff mass include the spill.
 // A map of an older version reads with the rules it was built with: the options
 // its version did not store did not exist then, so they take the values that
 // reproduce that code (version 1: the three matching rules off; version <= 2:
@@ -210,8 +213,10 @@ void PanopticNDTMap::serializeTo(CArchive& out) const
         sem_size[i] = uint8_t(r.semantic.size());
         std::memcpy(&sem_ids[SC * i], r.semantic.ids, SC);
         for (int j = 0; j < SC; ++j) sem_w[SC * i + size_t(j)] = r.semantic.weight(j);
-        sem_sum[i] = r.semantic.sum();  // derived; kept in the format for its readers
-        stuff[i] = stuffMass(r, map_.options().classes);
+        // Derived; kept in the format for its readers. The whole h^L, spill included.
+        const SemanticSpill* spill = map_.semanticSpills().find(uint32_t(i));
+        sem_sum[i] = semanticMass(r, spill);
+        stuff[i] = stuffMass(r, map_.options().classes, spill);
         n_l[i] = r.n_l;
         n_z[i] = r.instances != kNoRecord && r.instances < inst_recs.size() ? inst_recs[r.instances].n_z : 0;
         inst[i] = r.instances;
@@ -261,6 +266,26 @@ void PanopticNDTMap::serializeTo(CArchive& out) const
     writeArray(out, ev_b);
     writeArray(out, ev_joint);
     writeArray(out, ev_apart);
+
+    // Version 4: semantic spills.
+    std::vector<uint32_t> sp_record;
+    std::vector<uint8_t> sp_count, sp_cls;
+    std::vector<float> sp_w;
+    for (const auto& [li, spill] : map_.semanticSpills().sorted())
+    {
+        sp_record.push_back(li);
+        sp_count.push_back(uint8_t(spill->entries.size()));
+        for (const auto& e : spill->entries)
+        {
+            sp_cls.push_back(e.cls);
+            sp_w.push_back(e.weight);
+        }
+    }
+    out << uint64_t(sp_record.size()) << uint64_t(sp_cls.size());
+    writeArray(out, sp_record);
+    writeArray(out, sp_count);
+    writeArray(out, sp_cls);
+    writeArray(out, sp_w);
 }
 
 void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
@@ -421,10 +446,37 @@ void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
                     for (size_t i = 0; i < ne; ++i) evidence.push_back({ev_a[i], ev_b[i], ev_joint[i], ev_apart[i]});
                 }
 
+                std::vector<std::pair<uint32_t, SemanticSpill>> spills;
+                if (version >= 4)
+                {
+                    stage = "semantic spills";
+                    const size_t ns = readCount(in, "semantic spill", kMaxVoxels);
+                    const size_t ne = readCount(in, "semantic spill entry", 256 * uint64_t(ns));
+                    std::vector<uint32_t> sp_record;
+                    std::vector<uint8_t> sp_count, sp_cls;
+                    std::vector<float> sp_w;
+                    readArray(in, sp_record, ns);
+                    readArray(in, sp_count, ns);
+                    readArray(in, sp_cls, ne);
+                    readArray(in, sp_w, ne);
+                    size_t e = 0;
+                    for (size_t i = 0; i < ns; ++i)
+                    {
+                        if (sp_count[i] == 0 || e + sp_count[i] > ne)
+                            throw std::runtime_error(fmt::format("semantic spill {} claims {} of {} entries left", i,
+                                                                 sp_count[i], ne - e));
+                        SemanticSpill sp;
+                        for (size_t k = 0; k < sp_count[i]; ++k, ++e) sp.entries.push_back({sp_cls[e], sp_w[e]});
+                        spills.emplace_back(sp_record[i], std::move(sp));
+                    }
+                    if (e != ne) throw std::runtime_error(fmt::format("{} semantic spill entries left over", ne - e));
+                }
+
                 stage = "consistency check";
                 PanopticMap m(o);
                 m.restore(keys, std::move(voxels), std::move(surfaces), std::move(recs), std::move(irecs), next_id);
                 m.restorePairEvidence(evidence);
+                m.restoreSpills(spills);
                 map_ = std::move(m);
                 insertionOptions = io;  // the pairer's options
                 renderOptions = ro;

@@ -2,6 +2,7 @@
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/serialization/CArchive.h>
+#include <pndt/instance_numbering.h>
 #include <pndt/mrpt/map_files.h>
 #include <pndt/mrpt/voxel_colors.h>
 #include <unistd.h>
@@ -51,6 +52,7 @@ void writePly(const PanopticNDTMap& m, const std::string& path, ColorMode colors
     const PanopticMap& map = m.core();
     map.finalize();
     const auto& store = map.voxels();
+    const InstanceNumbering numbering = InstanceNumbering::of(map);
     std::vector<uint32_t> occupied;
     for (uint32_t i = 0; i < store.size(); ++i)
         if (map.isOccupied(store[i])) occupied.push_back(i);
@@ -58,7 +60,9 @@ void writePly(const PanopticNDTMap& m, const std::string& path, ColorMode colors
         std::ofstream f(tmp, std::ios::binary);
         if (!f) throw std::runtime_error(fmt::format("cannot write {}", tmp));
         f << "ply\nformat binary_little_endian 1.0\ncomment PanopticNDT map, voxel "
-          << map.options().voxel_size << " m\nelement vertex " << occupied.size()
+          << map.options().voxel_size
+          << " m\ncomment label = semantic << 16 | n, n = the instance's rank among the map's instance ids "
+             "(1 = smallest; instance holds the id itself)\nelement vertex " << occupied.size()
           << "\nproperty float x\nproperty float y\nproperty float z\n"
              "property uchar red\nproperty uchar green\nproperty uchar blue\n"
              "property ushort semantic\nproperty uint instance\nproperty uint label\n"
@@ -72,7 +76,7 @@ void writePly(const PanopticNDTMap& m, const std::string& path, ColorMode colors
             const PanopticLabel pl = map.panopticLabel(i);
             const uint16_t sem = pl.semantic;
             const uint32_t inst = pl.instance;
-            const uint32_t label = (uint32_t(sem) << 16) | (inst & 0xFFFF);
+            const uint32_t label = (uint32_t(sem) << 16) | numbering.dense(inst);
             const float prob = float(1.0 / (1.0 + std::exp(-double(v.occ))));
             f.write(reinterpret_cast<const char*>(xyz), sizeof(xyz));
             f.write(reinterpret_cast<const char*>(&c.r), 1);

@@ -2,17 +2,30 @@
 #pragma once
 
 #include <pndt/class_set.h>
+#include <pndt/semantic_spill.h>
 #include <pndt/voxel.h>
 
 namespace pndt
 {
+// `spill`: the classes h^L holds beyond the record (semantic_eviction = false),
+// nullptr when there are none. The record always holds the strongest classes.
+
 /// The stuff part of h^L: the weight of its stuff classes.
-inline float stuffMass(const LabelRecord& r, const ClassSet& classes)
+inline float stuffMass(const LabelRecord& r, const ClassSet& classes, const SemanticSpill* spill = nullptr)
 {
     float stuff = 0;
     for (int j = 0, n = r.semantic.size(); j < n; ++j)
         if (!classes.isThing(r.semantic.ids[j])) stuff += r.semantic.weight(j);
+    if (spill)
+        for (const auto& e : spill->entries)
+            if (!classes.isThing(e.cls)) stuff += e.weight;
     return stuff;
+}
+
+/// The mass of h^L.
+inline float semanticMass(const LabelRecord& r, const SemanticSpill* spill = nullptr)
+{
+    return spill ? r.semantic.sum() + spill->sum() : r.semantic.sum();
 }
 
 /// argmax h^L as a class id (the void bin reads as void, 0); 0 without evidence.
@@ -24,10 +37,11 @@ inline uint16_t semanticArgmax(const LabelRecord& r)
 
 /// isthing(v): the stuff share of h^L is below theta_st. A voxel without
 /// semantic mass is not a thing.
-inline bool isThing(const LabelRecord& r, const ClassSet& classes, double theta_st)
+inline bool isThing(const LabelRecord& r, const ClassSet& classes, double theta_st,
+                    const SemanticSpill* spill = nullptr)
 {
-    const float sum = r.semantic.sum();
-    return sum > 0 && double(stuffMass(r, classes)) / double(sum) < theta_st;
+    const float sum = semanticMass(r, spill);
+    return sum > 0 && double(stuffMass(r, classes, spill)) / double(sum) < theta_st;
 }
 
 /// isintopz(v, z): z belongs to the highest-weight entries that together hold at
@@ -48,22 +62,26 @@ inline bool isInTopZ(const InstanceHistogram& h, uint32_t z, double theta_b)
 /// pthing(v): a thing voxel that saw instances often enough relative to its
 /// semantic observations (n^Z / n^L >= theta_o).
 inline bool isPanopticThing(const LabelRecord& r, const InstanceRecord& z, const ClassSet& classes, double theta_st,
-                            double theta_o)
+                            double theta_o, const SemanticSpill* spill = nullptr)
 {
-    return isThing(r, classes, theta_st) && r.n_l > 0 && double(z.n_z) >= theta_o * double(r.n_l);
+    return isThing(r, classes, theta_st, spill) && r.n_l > 0 && double(z.n_z) >= theta_o * double(r.n_l);
 }
 
 /// Adds a voxel's thing-class mass of h^L to per-class sums (an instance's class
 /// is the argmax of these sums over its voxels).
 template <typename T>
-inline void addThingMass(const LabelRecord& r, const ClassSet& classes, T* per_class)
+inline void addThingMass(const LabelRecord& r, const ClassSet& classes, T* per_class,
+                         const SemanticSpill* spill = nullptr)
 {
     for (int j = 0, n = r.semantic.size(); j < n; ++j)
         if (classes.isThing(r.semantic.ids[j])) per_class[r.semantic.ids[j]] += r.semantic.weight(j);
+    if (spill)
+        for (const auto& e : spill->entries)
+            if (classes.isThing(e.cls)) per_class[e.cls] += e.weight;
 }
 
 /// The thing class with the most mass in a voxel's own h^L, or 0 if it has none.
-inline uint16_t ownThingClass(const LabelRecord& r, const ClassSet& classes)
+inline uint16_t ownThingClass(const LabelRecord& r, const ClassSet& classes, const SemanticSpill* spill = nullptr)
 {
     float best = 0;
     uint16_t c = 0;
@@ -73,6 +91,14 @@ inline uint16_t ownThingClass(const LabelRecord& r, const ClassSet& classes)
             best = r.semantic.weight(j);
             c = r.semantic.ids[j];
         }
+    // Spilled weights are at most the record's: only needed when it has no thing class.
+    if (c == 0 && spill)
+        for (const auto& e : spill->entries)
+            if (classes.isThing(e.cls) && e.weight > best)
+            {
+                best = e.weight;
+                c = e.cls;
+            }
     return c;
 }
 

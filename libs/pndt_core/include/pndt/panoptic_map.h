@@ -8,6 +8,7 @@
 #include <pndt/frame.h>
 #include <pndt/map_options.h>
 #include <pndt/record_pool.h>
+#include <pndt/semantic_spill.h>
 #include <pndt/voxel_store.h>
 
 #include <algorithm>
@@ -151,6 +152,18 @@ class PanopticMap
     {
         return r.instances == kNoRecord ? nullptr : &instance_records_[r.instances];
     }
+    /// The classes of a voxel's h^L beyond its label record (semantic_eviction =
+    /// false), or nullptr: pass it to the predicates of instance_rules.h.
+    const SemanticSpill* spillOf(const Voxel& v) const
+    {
+        if (spills_.empty() || v.surface == kNoRecord) return nullptr;
+        return spills_.find(surfaces_[v.surface].labels);
+    }
+    const SemanticSpills& semanticSpills() const { return spills_; }
+    /// Replaces the spills (after restore()); each must belong to a full label
+    /// record, hold classes of the class set the record does not, and weigh at
+    /// most its smallest entry (throws std::invalid_argument naming the record).
+    void restoreSpills(const std::vector<std::pair<uint32_t, SemanticSpill>>& spills);
     /// Renames map instances (e.g. to carry ids over from the previous
     /// short-term map); `rename(id)` returns the new id, or id to keep it. The
     /// id counter moves past every id in use.
@@ -228,6 +241,7 @@ class PanopticMap
     RecordPool<SurfaceRecord> surfaces_;
     RecordPool<LabelRecord> labels_;
     RecordPool<InstanceRecord> instance_records_;
+    SemanticSpills spills_;  ///< h^L beyond the records (semantic_eviction = false)
     uint32_t next_instance_id_ = 1;
     double min_var_ = 0;
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <pndt/eval/panoptic_evaluator.h>
+#include <pndt/instance_numbering.h>
 #include <pndt/panoptic_map.h>
 
 #include <Eigen/Core>
@@ -22,16 +23,19 @@ enum class PointLookup
     ContainingVoxel,
 };
 
-/// Instance score for AP: (semantic, map instance id) -> confidence. Empty = 1.0.
+/// Instance score for AP: (semantic, map instance id) -> confidence. Empty = 1.0. It is
+/// called with the map's own instance id, not the dense number the labels carry.
 using InstanceConfidence = std::function<double(uint16_t semantic, uint32_t instance)>;
 
-/// The map's labels for GT points; a point without an occupied voxel is void (0). Throws
-/// std::out_of_range if a map instance id exceeds 65535 (sem << 16 | ins).
+/// The map's labels for GT points; a point without an occupied voxel is void (0). Instances
+/// are encoded sem << 16 | n with n the map's dense instance number (InstanceNumbering::of,
+/// so maps after a short-term hand-over, whose ids exceed 65535, evaluate too).
 PredictedLabels labelPoints(const PanopticMap& map, const std::vector<Eigen::Vector3d>& points,
                             PointLookup lookup = PointLookup::Map);
 
-/// The map's labels of a rendered view, row-major (see PanopticMap::render).
-PredictedLabels viewLabels(const RenderedView& view);
+/// The map's labels of a rendered view, row-major (see PanopticMap::render), instances
+/// numbered by `numbering` (InstanceNumbering::of the rendered map).
+PredictedLabels viewLabels(const RenderedView& view, const InstanceNumbering& numbering);
 
 /// 3D evaluation of one scene: labels `points`, adds them against `gt_panoptic`
 /// (sem << 16 | ins per point) to `eval`; returns the labels (for the text writers).

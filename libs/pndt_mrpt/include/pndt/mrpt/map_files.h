@@ -18,8 +18,9 @@ void saveArchive(const mrpt::serialization::CSerializable& obj, const std::strin
 PanopticNDTMap::Ptr loadMapArchive(const std::string& path);
 
 /// Occupied voxels as a binary PLY: x y z (NDT mean), red green blue (panoptic
-/// colours), semantic, instance (propagated), label = semantic<<16 | instance,
-/// occupancy probability. Written atomically.
+/// colours), semantic, instance (propagated map id), label = semantic<<16 | n with n the
+/// instance's dense number (InstanceNumbering: ids after a short-term hand-over exceed
+/// 16 bits), occupancy probability. Written atomically.
 void writePly(const PanopticNDTMap& map, const std::string& path, ColorMode colors = ColorMode::Panoptic);
 
 }  // namespace pndt
