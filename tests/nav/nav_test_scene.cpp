@@ -114,13 +114,15 @@ const PanopticNDTMap& builtMap()
 
 const std::string& savedMapPath()
 {
-    static const std::string path = [] {
+    // Never destroyed, so the exit handler that removes the file can still read it.
+    static const std::string* path = [] {
         const auto p = std::filesystem::temp_directory_path() / ("pndt_nav_test_" + std::to_string(::getpid()) + ".pndt.gz");
         saveArchive(builtMap(), p.string());
+        auto* s = new std::string(p.string());
         std::atexit([] { std::filesystem::remove(savedMapPath()); });
-        return p.string();
+        return s;
     }();
-    return path;
+    return *path;
 }
 
 const PanopticNDTMap& loadedMap()
