@@ -104,6 +104,7 @@ std::vector<RowSpec> makeRows(const Plan& plan);
 struct Scores
 {
     double miou3 = kNaN, miou_p3 = kNaN, pq3 = kNaN, ap50_3 = kNaN;
+    double ap50_3s = kNaN;  ///< 3D AP50 with the map's instance confidences (ap50_3: every score 1)
     double miou2 = kNaN, miou_p2 = kNaN, pq2 = kNaN, ap50_2 = kNaN;
     double coverage3 = kNaN, coverage2 = kNaN;  ///< share of non-void GT the map labels at all
     double accuracy3 = kNaN, accuracy2 = kNaN;  ///< share of non-void GT with the right class (argmax h^L)

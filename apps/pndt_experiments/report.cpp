@@ -80,8 +80,9 @@ std::string rawOf(const RowSpec& r) { return r.input == Input::GroundTruth ? "ra
 
 std::string tableHeader()
 {
-    return "| method | voxel | 3D mIoU | 3D mIoU_P | 3D PQ | 3D AP50 | 2D mIoU | 2D PQ | input 2D mIoU | input 2D PQ |\n"
-           "|---|---|---|---|---|---|---|---|---|---|\n";
+    return "| method | voxel | 3D mIoU | 3D mIoU_P | 3D PQ | 3D AP50 (scores 1) | 3D AP50 (confidence) | 2D mIoU | 2D PQ | "
+           "input 2D mIoU | input 2D PQ |\n"
+           "|---|---|---|---|---|---|---|---|---|---|---|\n";
 }
 
 std::string tableRow(const Plan& plan, const std::vector<RunResult>& runs, const std::string& id, bool spread,
@@ -93,8 +94,9 @@ std::string tableRow(const Plan& plan, const std::vector<RunResult>& runs, const
     const std::string raw = r->raw ? id : rawOf(*r);
     std::string label = label_override.empty() ? r->label : label_override;
     if (r->raw) label = r->input == Input::GroundTruth ? "GT segmentation, raw per frame" : "network-like input, raw per frame";
-    return fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", label, cmLabel(r->voxel),
+    return fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", label, cmLabel(r->voxel),
                        cell(&Scores::miou3), cell(&Scores::miou_p3), cell(&Scores::pq3), cell(&Scores::ap50_3),
+                       cell(&Scores::ap50_3s),
                        cell(&Scores::miou2), cell(&Scores::pq2),
                        fmtStat(stat(values(runs, raw, &Scores::miou2)), spread),
                        fmtStat(stat(values(runs, raw, &Scores::pq2)), spread));
@@ -147,10 +149,11 @@ std::string summaryLines(const Plan& plan, const RunResult& run)
         if (it == run.scores.end()) continue;
         const Scores& s = it->second;
         const Scores& raw = run.scores.at(r.raw ? r.id : rawOf(r));
-        out += fmt::format("    {:<34} {:>6}  3D mIoU {:>5} mIoU_P {:>5} PQ {:>5} AP50 {:>5} | 2D mIoU {:>5} PQ {:>5} | "
-                           "input 2D mIoU {:>5} PQ {:>5}\n",
+        out += fmt::format("    {:<34} {:>6}  3D mIoU {:>5} mIoU_P {:>5} PQ {:>5} AP50 {:>5} (scored {:>5}) | 2D mIoU "
+                           "{:>5} PQ {:>5} | input 2D mIoU {:>5} PQ {:>5}\n",
                            (r.group == "gt" ? "[GT input] " : "") + r.label, r.raw ? "" : cmLabel(r.voxel),
-                           fmtVal(s.miou3), fmtVal(s.miou_p3), fmtVal(s.pq3), fmtVal(s.ap50_3), fmtVal(s.miou2),
+                           fmtVal(s.miou3), fmtVal(s.miou_p3), fmtVal(s.pq3), fmtVal(s.ap50_3), fmtVal(s.ap50_3s),
+                           fmtVal(s.miou2),
                            fmtVal(s.pq2), fmtVal(raw.miou2), fmtVal(raw.pq2));
     }
     return out;

@@ -2,7 +2,10 @@
 // does what it says in every combination of options, and a frame that predicts
 // no instance inherits nothing from the frame before it.
 #include <gtest/gtest.h>
+#include <pndt/instance_rules.h>
 #include <pndt/panoptic_map.h>
+
+#include <cmath>
 
 #include <vector>
 
@@ -197,4 +200,33 @@ TEST(InstanceRuleFrames, OccupiedThresholdDecidesWhatIsOccupied)
         ASSERT_NE(wall, kNoRecord);
         EXPECT_EQ(map.isOccupied(map.voxels()[wall]), threshold == 0.f);
     }
+}
+
+TEST(InstanceRuleFrames, InstanceConfidenceGrowsWithFramesAndFallsWithRivals)
+{
+    // Hand-computed: confidence = weight share x (1 - exp(-frames / 3)).
+    EXPECT_DOUBLE_EQ(instanceConfidence(1.0, 0), 0.0);
+    EXPECT_DOUBLE_EQ(instanceConfidence(1.0, 3), 1.0 - std::exp(-1.0));
+    EXPECT_DOUBLE_EQ(instanceConfidence(0.5, 3), 0.5 * (1.0 - std::exp(-1.0)));
+
+    // A chair seen in 5 frames alone, another seen twice: frames count, shares are 1.
+    PanopticMap map(paperRules());
+    const PanopticFrame both = wallWith({{0, 16, kChair, 1}, {40, 56, kChair, 2}});
+    const PanopticFrame left = wallWith({{0, 16, kChair, 1}});
+    for (int i = 0; i < 2; ++i) map.integrate(both, Pose::Identity());
+    for (int i = 0; i < 3; ++i) map.integrate(left, Pose::Identity());
+    const auto inst = map.instances();
+    ASSERT_EQ(inst.size(), 2u);
+    const MapInstance& a = inst[0].centroid.x() < inst[1].centroid.x() ? inst[0] : inst[1];
+    const MapInstance& b = &a == &inst[0] ? inst[1] : inst[0];
+    EXPECT_EQ(a.frames_seen, 5u);
+    EXPECT_EQ(b.frames_seen, 2u);
+    EXPECT_FLOAT_EQ(a.weight_share, 1.f);
+    EXPECT_FLOAT_EQ(b.weight_share, 1.f);
+    EXPECT_DOUBLE_EQ(a.confidence, instanceConfidence(1.0, 5));
+    EXPECT_GT(a.confidence, b.confidence);
+    // Renaming keeps the counts with the ids; merging two keeps the larger.
+    map.renameInstances([&](uint32_t id) { return id == b.id ? a.id : id; });
+    ASSERT_EQ(map.instanceFrames().size(), 1u);
+    EXPECT_EQ(map.instanceFrames()[0], std::make_pair(a.id, 5u));
 }

@@ -99,6 +99,7 @@ void expectIdentical(const Built& a, const Built& b)
         EXPECT_TRUE(p.weights == q.weights) << i;
     }
     EXPECT_EQ(x.nextInstanceId(), y.nextInstanceId());
+    EXPECT_EQ(x.instanceFrames(), y.instanceFrames());
     const auto sx = x.semanticSpills().sorted(), sy = y.semanticSpills().sorted();
     ASSERT_EQ(sx.size(), sy.size());
     for (size_t i = 0; i < sx.size(); ++i)
@@ -213,6 +214,7 @@ TEST(ThreadsIdentical, ThreadsCanChangeBetweenFrames)
     b.map.restore(a.map.voxels().packedKeys(), vec(a.map.voxels().voxels()), vec(a.map.surfaceRecords()),
                   vec(a.map.labelRecords()), vec(a.map.instanceRecords()), a.map.nextInstanceId());
     b.map.restorePairEvidence(a.map.pairEvidence());
+    b.map.restoreInstanceFrames(a.map.instanceFrames());
     b.totals = a.totals;
     for (size_t i = 3; i < d.frames.size(); ++i)
     {

@@ -81,6 +81,7 @@ void expectSameState(const PanopticMap& a, const PanopticMap& b)
     }
     EXPECT_EQ(a.nextInstanceId(), b.nextInstanceId());
     EXPECT_EQ(a.pairEvidence(), b.pairEvidence());
+    EXPECT_EQ(a.instanceFrames(), b.instanceFrames());
     const auto sa = a.semanticSpills().sorted(), sb = b.semanticSpills().sorted();
     ASSERT_EQ(sa.size(), sb.size());
     for (size_t i = 0; i < sa.size(); ++i)
@@ -147,7 +148,10 @@ TEST(PluginSerialization, RoundTripKeepsEveryVoxelFieldBitExact)
         EXPECT_EQ(ia[i].id, ib[i].id);
         EXPECT_EQ(ia[i].semantic, ib[i].semantic);
         EXPECT_EQ(ia[i].voxel_count, ib[i].voxel_count);
+        EXPECT_EQ(ia[i].frames_seen, ib[i].frames_seen);
+        EXPECT_EQ(ia[i].confidence, ib[i].confidence);
     }
+    EXPECT_FALSE(m->core().instanceFrames().empty());
 }
 
 TEST(PluginSerialization, RoundTripKeepsTheRulesBeyondThePaper)

@@ -229,6 +229,14 @@ void PanopticMap::matchInstances(const PanopticFrame& f, const Pose& T, FrameSta
         else
             ++st.ambiguous_instances;
     }
+    // Frames seen: once per map instance that a prediction took in this frame.
+    for (size_t p = 0; p < P; ++p)
+    {
+        const uint32_t z = s.predicted_decision[p];
+        bool first = z != 0;
+        for (size_t q = 0; q < p && first; ++q) first = s.predicted_decision[q] != z;
+        if (first) ++instance_frames_[z];
+    }
     splitMergedPredictions(f, st);
     collectFragmentEvidence();
 }

@@ -57,6 +57,7 @@ PanopticMap::PanopticMap(const PanopticMap& o)
       labels_(o.labels_),
       instance_records_(o.instance_records_),
       spills_(o.spills_),
+      instance_frames_(o.instance_frames_),
       next_instance_id_(o.next_instance_id_),
       min_var_(o.min_var_),
       scratch_(std::make_unique<Scratch>()),
@@ -101,6 +102,7 @@ void PanopticMap::clear()
     labels_.clear();
     instance_records_.clear();
     spills_.clear();
+    instance_frames_.clear();
     next_instance_id_ = 1;
     scratch_->pair_evidence.clear();
     invalidate();
@@ -318,7 +320,29 @@ void PanopticMap::restore(const std::vector<uint64_t>& keys, std::vector<Voxel> 
     instance_records_.assign(instance_records.begin(), instance_records.end());
     next_instance_id_ = next_instance_id;
     spills_.clear();
+    instance_frames_.clear();
     scratch_->pair_evidence.clear();
+    invalidate();
+}
+
+std::vector<std::pair<uint32_t, uint32_t>> PanopticMap::instanceFrames() const
+{
+    std::vector<std::pair<uint32_t, uint32_t>> out(instance_frames_.begin(), instance_frames_.end());
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+void PanopticMap::restoreInstanceFrames(const std::vector<std::pair<uint32_t, uint32_t>>& frames)
+{
+    instance_frames_.clear();
+    for (const auto& [id, n] : frames)
+    {
+        if (id == 0 || id >= next_instance_id_)
+            throw std::invalid_argument(
+                fmt::format("frames seen of instance {}: ids must be 0 < id < {}", id, next_instance_id_));
+        if (!instance_frames_.emplace(id, n).second)
+            throw std::invalid_argument(fmt::format("frames seen of instance {} given twice", id));
+    }
     invalidate();
 }
 
@@ -366,6 +390,14 @@ void PanopticMap::renameInstances(const std::function<uint32_t(uint32_t)>& renam
         }
         h = renamed;
     }
+    // Frames seen follow the ids; merged ones keep the larger count (the frames overlap).
+    tsl::robin_map<uint32_t, uint32_t> frames;
+    for (const auto& [id, n] : instance_frames_)
+    {
+        uint32_t& m = frames[rename(id)];
+        m = std::max(m, n);
+    }
+    instance_frames_ = std::move(frames);
     invalidate();
 }
 

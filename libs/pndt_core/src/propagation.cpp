@@ -91,8 +91,9 @@ void PanopticMap::ensurePropagated() const
     if (options_.fragment_absorb_ratio > 0) absorbFragments(instance);
     if (options_.label_fill_distance > 0) fillUnlabelled(instance);
 
-    // Pass 2: the instance summaries (centroid, extent, count).
+    // Pass 2: the instance summaries (centroid, extent, count, confidence).
     tsl::robin_map<uint32_t, uint32_t> summary_of;
+    std::vector<double> own_weight, all_weight;  // per summary: h^Z weight of it / of all ids
     for (size_t i = 0; i < n; ++i)
     {
         const uint32_t z = instance[i];
@@ -106,14 +107,30 @@ void PanopticMap::ensurePropagated() const
             mi.semantic = pr.instance_class.at(z);
             mi.bbox_min = mi.bbox_max = p;
             pr.instances.push_back(mi);
+            own_weight.push_back(0);
+            all_weight.push_back(0);
         }
         MapInstance& mi = pr.instances[it->second];
+        if (const LabelRecord* rec = labelsOf(store_[uint32_t(i)]); rec && rec->instances != kNoRecord)
+        {
+            const auto& h = instance_records_[rec->instances].hist;
+            own_weight[it->second] += h.weightOf(z);
+            all_weight[it->second] += h.sum();
+        }
         ++mi.voxel_count;
         mi.centroid += p;
         mi.bbox_min = mi.bbox_min.cwiseMin(p);
         mi.bbox_max = mi.bbox_max.cwiseMax(p);
     }
-    for (MapInstance& mi : pr.instances) mi.centroid /= double(mi.voxel_count);
+    for (size_t k = 0; k < pr.instances.size(); ++k)
+    {
+        MapInstance& mi = pr.instances[k];
+        mi.centroid /= double(mi.voxel_count);
+        mi.weight_share = all_weight[k] > 0 ? float(own_weight[k] / all_weight[k]) : 0.f;
+        const auto seen = instance_frames_.find(mi.id);
+        mi.frames_seen = seen == instance_frames_.end() ? 0 : seen->second;
+        mi.confidence = instanceConfidence(mi.weight_share, mi.frames_seen);
+    }
     std::sort(pr.instances.begin(), pr.instances.end(),
               [](const MapInstance& a, const MapInstance& b) { return a.id < b.id; });
     propagated_valid_ = true;

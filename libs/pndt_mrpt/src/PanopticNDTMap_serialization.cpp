@@ -8,7 +8,8 @@
 // label_fill_distance, and at the end the semantic spills (classes of h^L beyond
 // a full label record, semantic_eviction = false): count (u64), label record
 // (u32 array), entries per spill (u8 array), then all entries' classes (u8) and
-// weights (f32). The stored h^L sum and stuff mass include the spill.
+// weights (f32). The stored h^L sum and stuff mass include the spill. Then the
+// frames each instance was seen in: count (u64), ids and frames (u32 arrays).
 // A map of an older version reads with the rules it was built with: the options
 // its version did not store did not exist then, so they take the values that
 // reproduce that code (version 1: the three matching rules off; version <= 2:
@@ -286,6 +287,17 @@ void PanopticNDTMap::serializeTo(CArchive& out) const
     writeArray(out, sp_count);
     writeArray(out, sp_cls);
     writeArray(out, sp_w);
+
+    // Version 4: frames seen per instance.
+    std::vector<uint32_t> fr_id, fr_n;
+    for (const auto& [id, n] : map_.instanceFrames())
+    {
+        fr_id.push_back(id);
+        fr_n.push_back(n);
+    }
+    out << uint64_t(fr_id.size());
+    writeArray(out, fr_id);
+    writeArray(out, fr_n);
 }
 
 void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
@@ -471,12 +483,23 @@ void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
                     }
                     if (e != ne) throw std::runtime_error(fmt::format("{} semantic spill entries left over", ne - e));
                 }
+                std::vector<std::pair<uint32_t, uint32_t>> instance_frames;
+                if (version >= 4)
+                {
+                    stage = "instance frames";
+                    const size_t nf = readCount(in, "instance frames", kMaxVoxels);
+                    std::vector<uint32_t> fr_id, fr_n;
+                    readArray(in, fr_id, nf);
+                    readArray(in, fr_n, nf);
+                    for (size_t i = 0; i < nf; ++i) instance_frames.emplace_back(fr_id[i], fr_n[i]);
+                }
 
                 stage = "consistency check";
                 PanopticMap m(o);
                 m.restore(keys, std::move(voxels), std::move(surfaces), std::move(recs), std::move(irecs), next_id);
                 m.restorePairEvidence(evidence);
                 m.restoreSpills(spills);
+                m.restoreInstanceFrames(instance_frames);
                 map_ = std::move(m);
                 insertionOptions = io;  // the pairer's options
                 renderOptions = ro;

@@ -10,6 +10,7 @@
 #include <pndt/record_pool.h>
 #include <pndt/semantic_spill.h>
 #include <pndt/voxel_store.h>
+#include <tsl/robin_map.h>
 
 #include <algorithm>
 #include <functional>
@@ -59,6 +60,12 @@ struct MapInstance
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  ///< mean of the voxels' NDT means
     Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero();
     Eigen::Vector3d bbox_max = Eigen::Vector3d::Zero();
+    /// Frames of this map in which a prediction was matched to it or created it.
+    uint32_t frames_seen = 0;
+    /// Its h^Z weight over its voxels / all h^Z weight there (1: no rival ids).
+    float weight_share = 0;
+    /// A score for AP and object queries: instanceConfidence(weight_share, frames_seen).
+    double confidence = 0;
 };
 
 /// The map rendered into a camera. 0 = nothing / void.
@@ -160,6 +167,10 @@ class PanopticMap
         return spills_.find(surfaces_[v.surface].labels);
     }
     const SemanticSpills& semanticSpills() const { return spills_; }
+    /// Frames in which each instance was matched or created, sorted by id.
+    std::vector<std::pair<uint32_t, uint32_t>> instanceFrames() const;
+    /// Replaces them (after restore(); ids must be below nextInstanceId()).
+    void restoreInstanceFrames(const std::vector<std::pair<uint32_t, uint32_t>>& frames);
     /// Replaces the spills (after restore()); each must belong to a full label
     /// record, hold classes of the class set the record does not, and weigh at
     /// most its smallest entry (throws std::invalid_argument naming the record).
@@ -242,6 +253,7 @@ class PanopticMap
     RecordPool<LabelRecord> labels_;
     RecordPool<InstanceRecord> instance_records_;
     SemanticSpills spills_;  ///< h^L beyond the records (semantic_eviction = false)
+    tsl::robin_map<uint32_t, uint32_t> instance_frames_;  ///< instance id -> frames seen
     uint32_t next_instance_id_ = 1;
     double min_var_ = 0;
 
