@@ -26,10 +26,16 @@ bool isOnTopOf(const MapObject& upper, const MapObject& lower, const RelationOpt
 /// Footprints within next_to_distance, heights overlapping, neither on the other.
 bool isNextTo(const MapObject& a, const MapObject& b, const RelationOptions& o = {});
 
+/// Two objects of one class that are pieces of one thing (a chair whose back the
+/// network saw as another chair instance): one's footprint centre lies inside
+/// the other's footprint (more than half of it overlaps: two real chairs never do).
+bool areFragmentsOfOne(const MapObject& a, const MapObject& b);
+
 /// Objects of `around_class` around each object of `center_class`: each
 /// candidate within around_distance counts for the nearest such centre only (a
-/// chair between two tables is counted once). Keyed by centre id; every centre
-/// is present (possibly with none).
+/// chair between two tables is counted once), and fragments of one object
+/// (areFragmentsOfOne) count once, as their largest piece. Keyed by centre id;
+/// every centre is present (possibly with none).
 std::map<uint32_t, std::vector<uint32_t>> objectsAround(const std::vector<MapObject>& objects, int center_class,
                                                         int around_class, const RelationOptions& o = {});
 
