@@ -230,3 +230,85 @@ TEST(InstanceRuleFrames, InstanceConfidenceGrowsWithFramesAndFallsWithRivals)
     ASSERT_EQ(map.instanceFrames().size(), 1u);
     EXPECT_EQ(map.instanceFrames()[0], std::make_pair(a.id, 5u));
 }
+
+TEST(InstanceRuleFrames, IouMatchingOnHandDrawnMasks)
+{
+    // A wall at 2 m, chairs drawn as column stripes; theta_M / theta_N = 0.5 / 0.05
+    // leave room for the voxels' footprints (1.6 px per voxel) around the
+    // hand-computed IoUs.
+    MapOptions o = paperRules();
+    o.theta_m = 0.5;
+    o.theta_n = 0.05;
+    PanopticMap map(o);
+    // Frame 1: one chair, columns 0..31: a new instance, id 1.
+    FrameStats st = map.integrate(wallWith({{0, 32, kChair, 7}}), Pose::Identity());
+    EXPECT_EQ(st.new_instances, 1u);
+    EXPECT_EQ(map.nextInstanceId(), 2u);
+    // Frame 2: columns 0..35 (IoU with id 1: 32 / 36 = 0.89) matches it; columns
+    // 44..63 (IoU 0) is new: id 2, the next id.
+    st = map.integrate(wallWith({{0, 36, kChair, 3}, {44, 64, kChair, 4}}), Pose::Identity());
+    EXPECT_EQ(st.matched_instances, 1u);
+    EXPECT_EQ(st.new_instances, 1u);
+    EXPECT_EQ(map.nextInstanceId(), 3u);
+    auto inst = map.instances();
+    ASSERT_EQ(inst.size(), 2u);
+    EXPECT_EQ(inst[0].id, 1u);
+    EXPECT_LT(inst[0].centroid.x(), 0.0);  // the left chair kept id 1
+    EXPECT_EQ(inst[1].id, 2u);
+    EXPECT_GT(inst[1].centroid.x(), 0.0);
+    // Frame 3: columns 16..63 overlaps both (IoU 20 / 64 = 0.31 with id 1, 20 / 48
+    // = 0.42 with id 2): ambiguous, no instance update and no id used.
+    st = map.integrate(wallWith({{16, 64, kChair, 5}}), Pose::Identity());
+    EXPECT_EQ(st.ambiguous_instances, 1u);
+    EXPECT_EQ(st.matched_instances + st.new_instances, 0u);
+    EXPECT_EQ(st.instance_updates, 0u);
+    EXPECT_EQ(map.nextInstanceId(), 3u);
+}
+
+TEST(InstanceRuleFrames, LabelAtTakesTheGaussianNearestInMahalanobisDistance)
+{
+    // Two stacked voxels with hand-set Gaussians (11 samples each, so variances are
+    // scatter / 10, plus the minimum variance (0.05 x 0.1 m)^2 = 2.5e-5):
+    // A in z [2.0, 2.1): mean z 2.09, variance_z 2.5e-5 (sigma 5 mm), class wall;
+    // B in z [2.1, 2.2): mean z 2.11, variance_z 1e-4 (sigma 1 cm), class picture.
+    MapOptions o;
+    PanopticMap map(o);
+    const auto shape = [](double z, double m2_zz) {
+        NdtShape s;
+        s.n = 11;
+        s.mean[0] = s.mean[1] = 0.05f;
+        s.mean[2] = float(z);
+        s.m2[0] = s.m2[3] = 0.01f;  // x, y: variance 1e-3
+        s.m2[5] = float(m2_zz);
+        return s;
+    };
+    const Eigen::Vector3d pa(0.05, 0.05, 2.09), pb(0.05, 0.05, 2.11);
+    std::vector<uint64_t> keys = {map.grid().keyOf(pa).packed(), map.grid().keyOf(pb).packed()};
+    ASSERT_NE(keys[0], keys[1]);
+    std::vector<Voxel> voxels = {{1.f, 0}, {1.f, 1}};
+    std::vector<SurfaceRecord> surfaces(2);
+    surfaces[0].shape = shape(2.09, 0.0);
+    surfaces[1].shape = shape(2.11, 7.5e-4);
+    surfaces[0].labels = 0;
+    surfaces[1].labels = 1;
+    std::vector<LabelRecord> labels(2);
+    labels[0].semantic.add(kWall, 5.f);
+    labels[1].semantic.add(11, 5.f);  // picture
+    labels[0].n_l = labels[1].n_l = 5;
+    map.restore(keys, voxels, surfaces, labels, {}, 1);
+
+    // z = 2.099 lies in A, 9 mm from A's mean and 11 mm from B's: in Mahalanobis
+    // terms 0.009^2 / 2.5e-5 = 3.24 against 0.011^2 / 1e-4 = 1.21, so B.
+    const double a_mean = double(2.09f), b_mean = double(2.11f);  // the stored floats
+    PointLabel l = map.labelAt({0.05, 0.05, 2.099});
+    ASSERT_TRUE(l.found);
+    EXPECT_EQ(l.semantic, 11);
+    EXPECT_NEAR(l.mahalanobis_sq, (b_mean - 2.099) * (b_mean - 2.099) / 1e-4, 1e-3);
+    // z = 2.093: 0.003^2 / 2.5e-5 = 0.36 against 0.017^2 / 1e-4 = 2.89: A.
+    l = map.labelAt({0.05, 0.05, 2.093});
+    ASSERT_TRUE(l.found);
+    EXPECT_EQ(l.semantic, kWall);
+    EXPECT_NEAR(l.mahalanobis_sq, (2.093 - a_mean) * (2.093 - a_mean) / 2.5e-5, 1e-3);
+    // Far from both (and their neighbourhoods): void.
+    EXPECT_FALSE(map.labelAt({0.05, 0.05, 2.5}).found);
+}

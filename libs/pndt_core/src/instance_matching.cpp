@@ -12,12 +12,6 @@
 
 namespace pndt
 {
-namespace
-{
-/// A pixel coordinate from a double that may be far outside the image.
-inline int clampedInt(double x) { return int(std::max(-1.0e9, std::min(1.0e9, x))); }
-}  // namespace
-
 void PanopticMap::predictedBand(const PanopticFrame& f, int band, int bands)
 {
     Scratch& s = *scratch_;
@@ -368,62 +362,10 @@ void PanopticMap::splitMergedPredictions(const PanopticFrame& f, FrameStats& st)
 MaskFootprint PanopticMap::maskFootprint(uint32_t voxel, const Pose& T_cam_world, const CameraIntrinsics& K) const
 {
     const Voxel& v = store_[voxel];
-    const VoxelKey key = store_.key(voxel);
-    MaskFootprint fp;
-    fp.ellipse = options_.use_ndt && hasGaussian(v);
-    if (fp.ellipse)
-    {
-        // vtou: the Gaussian projected to the image, J * Sigma_cam * J^T.
-        const NdtGaussian g = gaussianOf(v);
-        const Eigen::Vector3d m = T_cam_world * g.mean;
-        if (m.z() <= 1e-3) return fp;
-        const Eigen::Matrix3d R = T_cam_world.linear();
-        const Eigen::Matrix3d Sc = R * g.cov * R.transpose();
-        Eigen::Matrix<double, 2, 3> J;
-        J << K.fx / m.z(), 0, -K.fx * m.x() / (m.z() * m.z()), 0, K.fy / m.z(), -K.fy * m.y() / (m.z() * m.z());
-        const Eigen::Matrix2d S = J * Sc * J.transpose();
-        const Eigen::Matrix2d S_inv = S.inverse();
-        fp.s00 = S_inv(0, 0);
-        fp.s01 = S_inv(0, 1);
-        fp.s11 = S_inv(1, 1);
-        fp.u0 = K.fx * m.x() / m.z() + K.cx;
-        fp.v0 = K.fy * m.y() / m.z() + K.cy;
-        const double k2 = options_.vtou_mahalanobis_sq;
-        const double rx = std::sqrt(k2 * S(0, 0)), ry = std::sqrt(k2 * S(1, 1));
-        fp.c0 = clampedInt(std::ceil(fp.u0 - rx));
-        fp.c1 = clampedInt(std::floor(fp.u0 + rx));
-        fp.r0 = clampedInt(std::ceil(fp.v0 - ry));
-        fp.r1 = clampedInt(std::floor(fp.v0 + ry));
-        fp.z0 = m.z();
-    }
-    else
-    {
-        // Cube ablation (or too few samples): the projected voxel's bounding box.
-        const Eigen::Vector3d lo = grid_.minCorner(key);
-        const double sz = options_.voxel_size;
-        double umin = 1e18, umax = -1e18, vmin = 1e18, vmax = -1e18;
-        for (int corner = 0; corner < 8; ++corner)
-        {
-            const Eigen::Vector3d p =
-                T_cam_world * (lo + Eigen::Vector3d((corner & 1) * sz, ((corner >> 1) & 1) * sz, ((corner >> 2) & 1) * sz));
-            if (p.z() <= 1e-3) return fp;
-            const double u = K.fx * p.x() / p.z() + K.cx, vv = K.fy * p.y() / p.z() + K.cy;
-            umin = std::min(umin, u);
-            umax = std::max(umax, u);
-            vmin = std::min(vmin, vv);
-            vmax = std::max(vmax, vv);
-        }
-        fp.c0 = clampedInt(std::ceil(umin - 0.5));
-        fp.c1 = clampedInt(std::floor(umax - 0.5));
-        fp.r0 = clampedInt(std::ceil(vmin - 0.5));
-        fp.r1 = clampedInt(std::floor(vmax - 0.5));
-        fp.z0 = (T_cam_world * grid_.center(key)).z();
-    }
-    fp.c0 = std::max(fp.c0, 0);
-    fp.r0 = std::max(fp.r0, 0);
-    fp.c1 = std::min(fp.c1, K.width - 1);
-    fp.r1 = std::min(fp.r1, K.height - 1);
-    return fp;
+    if (options_.use_ndt && hasGaussian(v))
+        return gaussianFootprint(gaussianOf(v), T_cam_world, K, options_.vtou_mahalanobis_sq);
+    // Cube ablation (or too few samples): the projected voxel's bounding box.
+    return cubeFootprint(grid_.minCorner(store_.key(voxel)), options_.voxel_size, T_cam_world, K);
 }
 
 template <class Visit>
@@ -439,25 +381,14 @@ void PanopticMap::forEachFootprintPixel(const MaskFootprint& fp, int row_begin, 
     for (int r = row_begin; r < row_end; ++r)
     {
         const int32_t* to_frame = s.predicted_bands[size_t(s.bandOfRow(r, H))].remap.data();
-        int a = fp.c0, b = fp.c1;
-        if (fp.ellipse)
-        {
-            // Pixel centres inside the ellipse: S00 du^2 + 2 S01 du dv + S11 dv^2 <= k2,
-            // an interval of du per row.
-            const double dv = r - fp.v0;
-            const double qa = fp.s00, qb = 2 * fp.s01 * dv, qc = fp.s11 * dv * dv - k2;
-            const double disc = qb * qb - 4 * qa * qc;
-            if (!(disc >= 0) || !(qa > 0)) continue;
-            const double root = std::sqrt(disc);
-            a = std::max(a, clampedInt(std::ceil(fp.u0 + (-qb - root) / (2 * qa))));
-            b = std::min(b, clampedInt(std::floor(fp.u0 + (-qb + root) / (2 * qa))));
-        }
+        int a, b;
+        if (!footprintRow(fp, r, k2, a, b)) continue;
         const size_t row = size_t(r) * W;
         for (int c = a; c <= b; ++c)
         {
             const size_t i = row + c;
             const int32_t p = predicted[i];
-            if (p == kUnmappedPixel || std::abs(depth[i] - fp.z0) > tol) continue;  // depth test
+            if (p == kUnmappedPixel || !agreesInDepth(fp, depth[i], tol)) continue;
             visit(i, p >= 0 ? to_frame[p] : p);
         }
     }

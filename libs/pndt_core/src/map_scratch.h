@@ -11,6 +11,7 @@
 #include <mutex>
 #include <vector>
 
+#include "mask_footprint.h"
 #include "projection_kernels.h"
 #include "worker_pool.h"
 
@@ -255,18 +256,6 @@ struct PredictedBand
     std::vector<uint64_t> area;                ///< mapped pixels
     std::vector<uint16_t> cls;                 ///< semantic class at its first pixel
     std::vector<int32_t> remap;                ///< local index -> frame index (identity in band 0)
-};
-
-/// A candidate voxel in the image: pixel rows r0..r1 and columns c0..c1, within
-/// them the pixel centres inside the projected Gaussian's ellipse (vtou) or,
-/// without a Gaussian, the projected cube's box. Empty when r0 > r1.
-struct MaskFootprint
-{
-    bool ellipse = false;
-    int c0 = 0, c1 = -1, r0 = 0, r1 = -1;
-    double u0 = 0, v0 = 0;              ///< ellipse centre (pixels)
-    double s00 = 0, s01 = 0, s11 = 0;   ///< inverse of its 2x2 covariance
-    double z0 = 0;                      ///< depth the pixels must agree with
 };
 
 /// Per-thread state of the mask rasterisation: stamps (a pixel counts once per

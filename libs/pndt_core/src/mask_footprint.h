@@ -1,0 +1,45 @@
+// vtou (paper §III-D): where a map voxel lies in the image of a frame, for the
+// IoU of map instances with predicted masks. Free of the map so it can be
+// checked by hand (tests/core/test_mask_footprint.cpp). Pixel centres are at
+// integer image coordinates (u = fx x / z + cx), as in the forward projection.
+#pragma once
+
+#include <pndt/gaussian.h>
+#include <pndt/types.h>
+
+#include <cmath>
+
+namespace pndt
+{
+/// A candidate voxel in the image: pixel rows r0..r1 and columns c0..c1, within
+/// them the pixel centres inside the projected Gaussian's ellipse (vtou) or,
+/// without a Gaussian, the projected cube's box. Empty when r0 > r1.
+struct MaskFootprint
+{
+    bool ellipse = false;
+    int c0 = 0, c1 = -1, r0 = 0, r1 = -1;
+    double u0 = 0, v0 = 0;              ///< ellipse centre (pixels)
+    double s00 = 0, s01 = 0, s11 = 0;   ///< inverse of its 2x2 covariance
+    double z0 = 0;                      ///< depth the pixels must agree with
+};
+
+/// The Gaussian projected to the image (J Sigma_cam J^T) and cut at Mahalanobis
+/// distance^2 `k2`, clipped to the image; empty behind the camera.
+MaskFootprint gaussianFootprint(const NdtGaussian& g, const Pose& T_cam_world, const CameraIntrinsics& K, double k2);
+
+/// The bounding box of a cube (corner `min_corner`, edge `size`) in the image:
+/// the pixels whose centres it covers, clipped; z0 is the depth of its centre.
+MaskFootprint cubeFootprint(const Eigen::Vector3d& min_corner, double size, const Pose& T_cam_world,
+                            const CameraIntrinsics& K);
+
+/// Row r's columns [c0, c1] inside the footprint (the ellipse's chord, or the
+/// box); false when the row has none.
+bool footprintRow(const MaskFootprint& fp, int r, double k2, int& c0, int& c1);
+
+/// The depth test: a pixel belongs to the voxel only at about its depth.
+inline bool agreesInDepth(const MaskFootprint& fp, float depth, double tolerance)
+{
+    return std::abs(double(depth) - fp.z0) <= tolerance;
+}
+
+}  // namespace pndt
