@@ -38,6 +38,7 @@ struct Settings
     bool simulate = false;
     std::string nav_config = PNDT_NAV_CONFIG;
     double wait_for_map = 0;
+    double watch = 0;
     bool quiet = false;
 };
 
@@ -46,18 +47,15 @@ std::vector<mrpt::math::TPoint2D> waypointsOf(const PlannedPath& path)
     return {path.points.begin() + 1, path.points.end()};  // the start is where the robot is
 }
 
-nlohmann::json run(const Settings& s)
+/// The map, waiting up to --wait-for-map seconds for pndt-map's first one.
+LoadedMap firstMap(const Settings& s)
 {
-    nlohmann::json result;
-    // Wait for pndt-map's first short-term map when asked to.
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(s.wait_for_map);
-    LoadedMap loaded;
     for (;;)
     {
         try
         {
-            loaded = loadNavigationMap(s.map);
-            break;
+            return loadNavigationMap(s.map);
         }
         catch (const InputError&)
         {
@@ -65,6 +63,11 @@ nlohmann::json run(const Settings& s)
             std::this_thread::sleep_for(std::chrono::milliseconds(200));
         }
     }
+}
+
+nlohmann::json run(const Settings& s, LoadedMap& loaded)
+{
+    nlohmann::json result;
     PanopticNDTMap& map = *loaded.map;
     map.navigationOptions.obstacles.min_height = s.band.at(0);
     map.navigationOptions.obstacles.max_height = s.band.at(1);
@@ -185,15 +188,30 @@ int main(int argc, char** argv)
     app.add_flag("--simulate", s.simulate, "drive a simulated robot there with MRPT's reactive navigator");
     app.add_option("--nav-config", s.nav_config, "reactive navigator .ini");
     app.add_option("--wait-for-map", s.wait_for_map, "seconds to wait for a map to appear in the folder");
+    app.add_option("--watch", s.watch,
+                   "folder source: for this many seconds, answer again whenever pndt-map writes a newer map");
     app.add_option("-o,--out", s.out, "output folder");
     app.add_flag("--quiet", s.quiet, "no summary on stdout");
     CLI11_PARSE(app, argc, argv);
     try
     {
-        const nlohmann::json result = run(s);
-        const fs::path json_path = fs::path(s.out) / "result.json";
-        std::ofstream(json_path) << result.dump(2) << "\n";
-        if (!s.quiet) std::cout << "wrote " << json_path.string() << ", grid.png, grid.gridmap.gz in " << s.out << "\n";
+        LoadedMap loaded = firstMap(s);
+        auto answer = [&] {
+            const nlohmann::json result = run(s, loaded);
+            const fs::path json_path = fs::path(s.out) / "result.json";
+            std::ofstream(json_path) << result.dump(2) << "\n";
+            if (!s.quiet) std::cout << "wrote " << json_path.string() << ", grid.png, grid.gridmap.gz in " << s.out << "\n";
+        };
+        answer();
+        // Short-term maps replace each other: follow the newest one.
+        const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(s.watch);
+        while (std::chrono::steady_clock::now() < until)
+        {
+            std::this_thread::sleep_for(std::chrono::milliseconds(250));
+            if (!reloadIfNewer(s.map, loaded)) continue;
+            if (!s.quiet) std::cout << "new map: " << loaded.file.string() << "\n";
+            answer();
+        }
         return 0;
     }
     catch (const std::exception& e)

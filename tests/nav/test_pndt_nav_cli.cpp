@@ -24,10 +24,10 @@ struct RunResult
     std::string out;
 };
 
-RunResult run(const std::string& args)
+RunResult runShell(const std::string& command)
 {
     RunResult r;
-    FILE* p = ::popen((std::string(PNDT_NAV_EXE) + " " + args + " 2>&1").c_str(), "r");
+    FILE* p = ::popen((command + " 2>&1").c_str(), "r");
     if (!p) return r;
     std::array<char, 4096> buf;
     while (fgets(buf.data(), int(buf.size()), p)) r.out += buf.data();
@@ -35,6 +35,8 @@ RunResult run(const std::string& args)
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return r;
 }
+
+RunResult run(const std::string& args) { return runShell(std::string(PNDT_NAV_EXE) + " " + args); }
 
 fs::path tempDir(const std::string& name)
 {
@@ -110,6 +112,21 @@ TEST(PndtNavCli, AFolderSourceTakesItsNewestMap)
     EXPECT_EQ(j["query"]["matches"].size(), 1u);
     EXPECT_TRUE(j["goal"]["found"]);  // no start: the largest free region
     EXPECT_FALSE(j.contains("path"));
+    fs::remove_all(dir);
+}
+
+TEST(PndtNavCli, WatchAnswersAgainWhenANewerMapAppears)
+{
+    const fs::path dir = tempDir("watch"), out = dir / "out";
+    fs::copy_file(navtest::savedMapPath(), dir / "map_0000.pndt.gz");
+    // pndt-map writes its next short-term map a second later (atomically, by rename).
+    const std::string writer = "(sleep 1; cp " + navtest::savedMapPath() + " " + (dir / "tmp").string() + " && mv " +
+                               (dir / "tmp").string() + " " + (dir / "map_0001.pndt.gz").string() + ") & ";
+    const RunResult r = runShell(writer + std::string(PNDT_NAV_EXE) + " " + dir.string() +
+                                 " --query 'table with most chairs' --watch 3 --out " + out.string());
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("new map: " + (dir / "map_0001.pndt.gz").string()), std::string::npos) << r.out;
+    EXPECT_EQ(fs::path(std::string(readJson(out / "result.json")["map"]["file"])).filename(), "map_0001.pndt.gz");
     fs::remove_all(dir);
 }
 

@@ -38,8 +38,11 @@ void writeGridPicture(const GridPicture& p, const std::string& png_path)
             std::vector<cv::Point> poly;
             for (const auto& k : c) poly.push_back(px(k));
             cv::polylines(img, poly, true, col, o.id == p.highlight_id ? 3 : 1, cv::LINE_AA);
-            cv::putText(img, fmt::format("{} {}", o.class_name, o.id), px(o.footprint.center) + cv::Point(-12, 4),
-                        cv::FONT_HERSHEY_SIMPLEX, 0.3, col * 0.6, 1, cv::LINE_AA);
+            // Dark text on a white halo stays readable over any cell.
+            const std::string label = fmt::format("{} {}", o.class_name, o.id);
+            const cv::Point at = px(o.footprint.center) + cv::Point(-int(label.size()) * 3, 4);
+            cv::putText(img, label, at, cv::FONT_HERSHEY_SIMPLEX, 0.35, cv::Scalar(255, 255, 255), 3, cv::LINE_AA);
+            cv::putText(img, label, at, cv::FONT_HERSHEY_SIMPLEX, 0.35, col * 0.6, 1, cv::LINE_AA);
         }
     if (p.path && p.path->found)
         for (size_t i = 1; i < p.path->points.size(); ++i)

@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <limits>
 #include <map>
+#include <unordered_map>
 
 namespace pndt::nav
 {
@@ -11,10 +13,45 @@ namespace
 {
 struct Accumulator
 {
-    std::vector<Eigen::Vector2d> xy;
+    std::vector<VoxelKey> keys;
+    std::vector<Eigen::Vector3d> points;
     double class_mass = 0, semantic_mass = 0, id_mass = 0, instance_mass = 0;
     uint64_t updates = 0;
 };
+/// Indices of the largest 26-connected group of voxels, and how many groups there are.
+std::vector<size_t> largestPiece(const std::vector<VoxelKey>& keys, uint32_t& pieces)
+{
+    std::unordered_map<uint64_t, size_t> index;
+    for (size_t i = 0; i < keys.size(); ++i) index[keys[i].packed()] = i;
+    std::vector<int> label(keys.size(), -1);
+    std::vector<size_t> best, current, stack;
+    pieces = 0;
+    for (size_t s = 0; s < keys.size(); ++s)
+    {
+        if (label[s] >= 0) continue;
+        current.clear();
+        stack.assign(1, s);
+        label[s] = int(pieces);
+        while (!stack.empty())
+        {
+            const size_t i = stack.back();
+            stack.pop_back();
+            current.push_back(i);
+            for (int dz = -1; dz <= 1; ++dz)
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx)
+                    {
+                        const auto it = index.find(VoxelKey{keys[i].x + dx, keys[i].y + dy, keys[i].z + dz}.packed());
+                        if (it == index.end() || label[it->second] >= 0) continue;
+                        label[it->second] = int(pieces);
+                        stack.push_back(it->second);
+                    }
+        }
+        ++pieces;
+        if (current.size() > best.size()) best = current;
+    }
+    return best;
+}
 }  // namespace
 
 std::vector<MapObject> mapObjects(const PanopticMap& map, const std::string& source, uint32_t min_voxels)
@@ -31,7 +68,8 @@ std::vector<MapObject> mapObjects(const PanopticMap& map, const std::string& sou
         const PanopticLabel l = map.panopticLabel(i);
         if (l.instance == 0) continue;
         Accumulator& a = acc[l.instance];
-        a.xy.push_back(map.pointOf(i).head<2>());
+        a.keys.push_back(store.key(i));
+        a.points.push_back(map.pointOf(i));
         if (const LabelRecord* r = map.labelsOf(v))
         {
             a.semantic_mass += r->semantic.sum();
@@ -62,10 +100,21 @@ std::vector<MapObject> mapObjects(const PanopticMap& map, const std::string& sou
         o.z_max = m.bbox_max.z();
         o.source = source;
         const auto it = acc.find(m.id);
-        if (it != acc.end() && !it->second.xy.empty())
+        if (it != acc.end() && !it->second.points.empty())
         {
             const Accumulator& a = it->second;
-            o.footprint = minAreaFootprint(a.xy, 0.5 * vs);
+            // Where the object is: its largest connected piece (a few stray voxels
+            // the network gave its id elsewhere would stretch the footprint).
+            std::vector<Eigen::Vector2d> xy;
+            o.z_min = std::numeric_limits<double>::infinity();
+            o.z_max = -o.z_min;
+            for (size_t k : largestPiece(a.keys, o.pieces))
+            {
+                xy.push_back(a.points[k].head<2>());
+                o.z_min = std::min(o.z_min, a.points[k].z());
+                o.z_max = std::max(o.z_max, a.points[k].z());
+            }
+            o.footprint = minAreaFootprint(xy, 0.5 * vs);
             o.class_confidence = a.semantic_mass > 0 ? a.class_mass / a.semantic_mass : 0;
             o.instance_confidence = a.instance_mass > 0 ? a.id_mass / a.instance_mass : 0;
             o.instance_updates = a.updates;

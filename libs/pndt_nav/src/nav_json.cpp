@@ -21,6 +21,7 @@ nlohmann::json toJson(const MapObject& o)
             {"footprint",
              {{"center", vec(o.footprint.center)}, {"yaw", o.footprint.yaw}, {"half_size", vec(o.footprint.half_size)}}},
             {"z_range", {o.z_min, o.z_max}},
+            {"pieces", o.pieces},
             {"class_confidence", o.class_confidence},
             {"instance_confidence", o.instance_confidence},
             {"instance_updates", o.instance_updates},

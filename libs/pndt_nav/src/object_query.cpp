@@ -109,6 +109,15 @@ bool hasWord(const std::vector<std::string>& t, size_t from, size_t to, std::ini
 
 std::string className(const ClassSet& c, int id) { return c.contains(uint32_t(id)) ? c.name(uint32_t(id)) : "?"; }
 
+/// "chair" -> "chairs" unless there is one; names ending in s stay (shelves, books).
+std::string plural(const std::string& name, size_t n = 2)
+{
+    if (n == 1 || name.empty() || name.back() == 's') return name;
+    const bool es = name.back() == 'x' || (name.size() > 1 && (name.compare(name.size() - 2, 2, "ch") == 0 ||
+                                                               name.compare(name.size() - 2, 2, "sh") == 0));
+    return name + (es ? "es" : "s");
+}
+
 std::string knownClasses(const ClassSet& classes)
 {
     std::string s;
@@ -178,9 +187,11 @@ QueryResult runQuery(const std::vector<MapObject>& objects, const ClassSet& clas
             if (most || fewest)
             {
                 r.kind = most ? QueryKind::MostAround : QueryKind::FewestAround;
-                r.summary = r.matches.empty() ? fmt::format("the map has no {}", A)
-                                              : fmt::format("{} {} has {} {} around it ({} around each {}: {})", A,
-                                                            r.best()->id, r.matches[0].related.size(), B, B, A, counts);
+                r.summary = r.matches.empty()
+                                ? fmt::format("the map has no {}", A)
+                                : fmt::format("{} {} has {} {} around it ({} around each {}: {})", A, r.best()->id,
+                                              r.matches[0].related.size(), plural(B, r.matches[0].related.size()),
+                                              plural(B), A, counts);
             }
             else
             {
@@ -194,9 +205,11 @@ QueryResult runQuery(const std::vector<MapObject>& objects, const ClassSet& clas
                                 r.matches.end());
                 const std::string wanted = count_between ? std::to_string(*count_between) : "any";
                 r.summary = r.matches.empty()
-                                ? fmt::format("no {} with {} {} around it ({} around each {}: {})", A, wanted, B, B, A,
+                                ? fmt::format("no {} with {} {} around it ({} around each {}: {})", A, wanted,
+                                              plural(B, size_t(count_between.value_or(2))), plural(B), A,
                                               counts.empty() ? "none" : counts)
-                                : fmt::format("{} {} with {} {} around: {}", r.matches.size(), A, wanted, B, counts);
+                                : fmt::format("{} {} with {} {} around ({} around each {}: {})", r.matches.size(),
+                                              plural(A, r.matches.size()), wanted, plural(B), plural(B), A, counts);
             }
             return r;
         }
@@ -213,7 +226,8 @@ QueryResult runQuery(const std::vector<MapObject>& objects, const ClassSet& clas
                         m.related.push_back(other.id);
                 if (!m.related.empty()) r.matches.push_back(m);
             }
-            r.summary = fmt::format("{} {} {} {} {}", r.matches.size(), A, on_top ? "on top of" : "next to", "a", B);
+            r.summary = fmt::format("{} {} {} a {}", r.matches.size(), plural(A, r.matches.size()),
+                                    on_top ? "on top of" : "next to", B);
             return r;
         }
     }
@@ -233,7 +247,7 @@ QueryResult runQuery(const std::vector<MapObject>& objects, const ClassSet& clas
     for (const MapObject* o : of_a) r.matches.push_back({o, {}, 0});
     std::stable_sort(r.matches.begin(), r.matches.end(),
                      [](const QueryMatch& x, const QueryMatch& y) { return x.object->voxel_count > y.object->voxel_count; });
-    r.summary = fmt::format("{} {} in the map", r.matches.size(), A);
+    r.summary = fmt::format("{} {} in the map", r.matches.size(), plural(A, r.matches.size()));
     return r;
 }
 

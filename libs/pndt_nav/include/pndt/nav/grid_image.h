@@ -19,7 +19,7 @@ struct GridPicture
     const GoalPose* goal = nullptr;
     const PlannedPath* path = nullptr;
     std::vector<Eigen::Vector2d> trajectory;  ///< e.g. a simulated robot's, drawn dotted
-    int scale = 4;                        ///< pixels per cell
+    int scale = 8;                        ///< pixels per cell
 };
 
 /// Writes a PNG (free white, occupied black, unknown grey; north = +y up). Throws

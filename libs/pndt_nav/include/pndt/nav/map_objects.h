@@ -18,10 +18,14 @@ struct MapObject
     uint32_t voxel_count = 0;
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  ///< mean of its voxels' NDT means
     Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero(), bbox_max = Eigen::Vector3d::Zero();
-    /// Smallest rectangle around its voxels' means, half a voxel added per side
-    /// (means lie on the surface, up to half a voxel inside the object's edge).
+    /// Smallest rectangle around the NDT means of its largest connected piece of
+    /// voxels, half a voxel added per side (means lie on the surface, up to half
+    /// a voxel inside the object's edge).
     Footprint footprint;
-    double z_min = 0, z_max = 0;  ///< of its voxels' means
+    double z_min = 0, z_max = 0;  ///< of that piece's means
+    /// 26-connected pieces its voxels form (1 = one solid object; more = stray
+    /// voxels with its id elsewhere, left out of footprint and heights).
+    uint32_t pieces = 1;
     /// Share of its voxels' semantic mass (h^L) on its class: how sure the class is.
     double class_confidence = 0;
     /// Share of its voxels' instance mass (h^Z) on its id: how clearly the voxels belong to it.
