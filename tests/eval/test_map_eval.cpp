@@ -7,35 +7,14 @@
 
 #include <cmath>
 
+#include "labelled_wall.h"
+
 using namespace pndt;
 using namespace pndt::eval;
 
 namespace
 {
-constexpr uint16_t kWall = 1, kFloor = 2, kPicture = 11;
-constexpr float kDepth = 2.05f;  // a voxel centre plane (voxel size 0.1)
-
-/// 64x48 camera at the origin looking along +z. Columns < 32 (x < 0 on the wall) are wall,
-/// columns >= 32 (x > 0) picture instance 1; scores above every threshold.
-PanopticFrame labelledWall()
-{
-    PanopticFrame f;
-    f.K = {64, 48, 32.0, 32.0, 31.5, 23.5};
-    f.depth.resize(64, 48, kDepth);
-    f.semantic.resize(64, 48, kWall);
-    f.semantic_score.resize(64, 48, 0.9f);
-    f.instance.resize(64, 48, 0);
-    f.panoptic_score.resize(64, 48, 0.f);
-    for (int r = 0; r < 48; ++r)
-        for (int c = 32; c < 64; ++c)
-        {
-            f.semantic.at(r, c) = kPicture;
-            f.instance.at(r, c) = 1;
-            f.panoptic_score.at(r, c) = 0.8f;
-        }
-    f.source = "TEST wall";
-    return f;
-}
+using namespace wall_scene;
 
 PanopticMap buildMap(bool use_ndt)
 {
