@@ -1,10 +1,13 @@
 // The navigation tests' scene and map (nav_test_scene.h).
 #include "nav_test_scene.h"
 
+#include <pndt/data/frame_geometry.h>
+#include <pndt/data/seg_noise.h>
 #include <pndt/look_at.h>
 #include <pndt/mrpt/map_files.h>
 #include <pndt/sim/furniture.h>
 #include <pndt/sim/renderer.h>
+#include <pndt/sim/scene_objects.h>
 #include <pndt/sim/trajectory.h>
 #include <unistd.h>
 
@@ -131,6 +134,42 @@ const PanopticNDTMap& loadedMap()
     return *map;
 }
 
-const PanopticNDTMap& mapNamed(const std::string& which) { return which == "loaded" ? loadedMap() : builtMap(); }
+PanopticFrame renderNoisyFrame(const Pose& T, uint64_t frame_index)
+{
+    static const data::SegmentationNoiseModel model(sim::sceneObjects(scene()), data::SegNoiseOptions{});
+    PanopticFrame f = renderFrame(T);
+    const data::FrameGeometry geo = data::computeFrameGeometry(f.depth, f.K, T);
+    data::SegNoiseFrame n = model.apply(f.semantic, f.instance, f.depth, geo, frame_index);
+    f.semantic = std::move(n.semantic);
+    f.semantic_score = std::move(n.semantic_score);
+    f.instance = std::move(n.instance);
+    f.panoptic_score = std::move(n.panoptic_score);
+    return f;
+}
+
+const PanopticNDTMap& noisyMap()
+{
+    static const PanopticNDTMap map = [] {
+        // A longer recording than the clean map's: two laps around each table at two
+        // heights and distances, as a robot would see them over a minute.
+        std::vector<Pose> poses;
+        for (const auto& [r, h] : {std::pair{2.0, 1.6}, std::pair{1.6, 1.1}})
+        {
+            for (const Pose& T : sim::orbit({kTableA.x(), kTableA.y(), 0}, r, h, 0.3, 24)) poses.push_back(T);
+            for (const Pose& T : sim::orbit({kTableB.x(), kTableB.y(), 0}, r - 0.3, h, 0.3, 20, 0.3)) poses.push_back(T);
+        }
+        for (const Pose& T : cameraPoses()) poses.push_back(T);
+        PanopticNDTMap m;
+        for (size_t i = 0; i < poses.size(); ++i) m.integrate(renderNoisyFrame(poses[i], i), poses[i]);
+        m.core().finalize();
+        return m;
+    }();
+    return map;
+}
+
+const PanopticNDTMap& mapNamed(const std::string& which)
+{
+    return which == "loaded" ? loadedMap() : which == "noisy" ? noisyMap() : builtMap();
+}
 
 }  // namespace navtest

@@ -43,7 +43,12 @@ const pndt::PanopticNDTMap& builtMap();
 const pndt::PanopticNDTMap& loadedMap();
 const std::string& savedMapPath();
 
-/// builtMap() or loadedMap(), for parameterised tests.
+/// The same frames with network-like labels (pndt_data's segmentation noise model,
+/// strength 1: whole objects confused, split, merged or missed, as EMSANet does).
+pndt::PanopticFrame renderNoisyFrame(const pndt::Pose& T_world_cam, uint64_t frame_index);
+const pndt::PanopticNDTMap& noisyMap();
+
+/// builtMap(), loadedMap() or noisyMap() ("built", "loaded", "noisy"), for parameterised tests.
 const pndt::PanopticNDTMap& mapNamed(const std::string& which);
 
 }  // namespace navtest

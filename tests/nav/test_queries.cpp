@@ -157,6 +157,25 @@ TEST_P(Queries, JsonCarriesTheAnswer)
         EXPECT_TRUE(o[0].contains(key)) << key;
 }
 
+TEST(QueriesNoisyLabels, TheTableWithTheMostChairsIsStillTableA)
+{
+    // Network-like labels (objects confused, split, merged, missed in stretches of
+    // frames). In this map table B shares table A's instance id (a merge in the
+    // input the matching kept), and chairs A1 and A2 share one: the tables come
+    // back as separate objects from their connected pieces, the chairs too.
+    const PanopticMap& map = navtest::noisyMap().core();
+    const auto objs = mapObjects(map, "noisy", 5);
+    const QueryResult r = runQuery(objs, map.options().classes, "the table with the most chairs");
+    std::cout << "  " << r.summary << "\n";
+    ASSERT_TRUE(r.best());
+    EXPECT_LT((r.best()->footprint.center - navtest::kTableA).norm(), 0.2);
+    EXPECT_EQ(r.matches[0].related.size(), 6u);
+    const QueryResult three = runQuery(objs, map.options().classes, "a table with three chairs");
+    std::cout << "  " << three.summary << "\n";
+    ASSERT_EQ(three.matches.size(), 1u);
+    EXPECT_LT((three.best()->footprint.center - navtest::kTableB).norm(), 0.2);
+}
+
 TEST(QueryParsing, PluralsAndMultiWordClasses)
 {
     const ClassSet c = ClassSet::nyuv2_40();

@@ -12,6 +12,7 @@ nlohmann::json vec(const Eigen::Vector2d& v) { return {v.x(), v.y()}; }
 nlohmann::json toJson(const MapObject& o)
 {
     return {{"id", o.id},
+            {"instance_id", o.instance_id},
             {"class_id", o.class_id},
             {"class", o.class_name},
             {"voxels", o.voxel_count},

@@ -10,9 +10,23 @@
 
 namespace pndt::nav
 {
+/// Object ids of pieces split off an instance: instance id + k * kSplitIdStep.
+constexpr uint32_t kSplitIdStep = 1u << 24;
+
+struct ObjectOptions
+{
+    /// A connected piece of an instance, apart from its largest, becomes an object
+    /// of its own when it has at least this many voxels and this share of the
+    /// largest piece: the map's matching sometimes gives two objects of one class
+    /// one id (two tables 2 m apart, each half of the other's size).
+    uint32_t split_min_voxels = 20;
+    double split_min_share = 0.3;
+};
+
 struct MapObject
 {
-    uint32_t id = 0;          ///< map instance id
+    uint32_t id = 0;           ///< the map instance id; pieces split off it: + k * kSplitIdStep
+    uint32_t instance_id = 0;  ///< the map instance it comes from
     uint16_t class_id = 0;
     std::string class_name;
     uint32_t voxel_count = 0;
@@ -23,8 +37,9 @@ struct MapObject
     /// a voxel inside the object's edge).
     Footprint footprint;
     double z_min = 0, z_max = 0;  ///< of that piece's means
-    /// 26-connected pieces its voxels form (1 = one solid object; more = stray
-    /// voxels with its id elsewhere, left out of footprint and heights).
+    /// 26-connected pieces its instance's voxels form (1 = one solid object; more =
+    /// stray voxels with its id elsewhere, left out of footprint and heights, or
+    /// large pieces split off as objects of their own: ObjectOptions).
     uint32_t pieces = 1;
     /// Share of its voxels' semantic mass (h^L) on its class: how sure the class is.
     double class_confidence = 0;
@@ -36,9 +51,11 @@ struct MapObject
     std::string source;
 };
 
-/// Every instance of the map (after propagation), by id. Objects smaller than
+/// Every instance of the map (after propagation), by id; large separate pieces of
+/// one instance as objects of their own (ObjectOptions). Objects smaller than
 /// `min_voxels` are left out (fragments).
-std::vector<MapObject> mapObjects(const PanopticMap& map, const std::string& source = "", uint32_t min_voxels = 1);
+std::vector<MapObject> mapObjects(const PanopticMap& map, const std::string& source = "", uint32_t min_voxels = 1,
+                                  const ObjectOptions& options = {});
 
 /// The object with this id, or nullptr.
 const MapObject* findObject(const std::vector<MapObject>& objects, uint32_t id);
