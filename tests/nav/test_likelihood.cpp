@@ -120,6 +120,32 @@ TEST_P(Localisation, LaserLikelihoodPeaksAtTheTruePose)
     }
 }
 
+TEST_P(Localisation, GridSearchOverPosesFindsTheTruePose)
+{
+    // What a localiser does with the likelihood: the best of 21 x 21 x 9 poses
+    // (±0.5 m in 5 cm steps, ±20° in 5° steps) around the truth is the truth.
+    const auto obs = laserScanAt(kTruePose);
+    const mrpt::maps::CMetricMap& m = map();
+    double best = -1e300;
+    CPose3D best_pose;
+    for (int ix = -10; ix <= 10; ++ix)
+        for (int iy = -10; iy <= 10; ++iy)
+            for (int ia = -4; ia <= 4; ++ia)
+            {
+                const CPose3D p(kTruePose.x() + 0.05 * ix, kTruePose.y() + 0.05 * iy, 0,
+                                kTruePose.yaw() + ia * 5 * M_PI / 180, 0, 0);
+                const double l = m.computeObservationLikelihood(obs, p);
+                if (l > best)
+                {
+                    best = l;
+                    best_pose = p;
+                }
+            }
+    EXPECT_NEAR(best_pose.x(), kTruePose.x(), 0.051);
+    EXPECT_NEAR(best_pose.y(), kTruePose.y(), 0.051);
+    EXPECT_NEAR(std::remainder(best_pose.yaw() - kTruePose.yaw(), 2 * M_PI), 0, 5.1 * M_PI / 180);
+}
+
 TEST_P(Localisation, MatchingRatioOfTheScanAsAPointsMap)
 {
     // The scan's points in the robot frame; the map's pose relative to ours is the robot pose.
