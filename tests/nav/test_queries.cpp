@@ -52,6 +52,8 @@ TEST_P(Queries, ObjectsMatchTheFurniture)
         EXPECT_LT((o->footprint.center - t.xy).norm(), 0.1) << t.name;
         EXPECT_GT(o->class_confidence, 0.95) << t.name;
         EXPECT_GT(o->instance_confidence, 0.9) << t.name;
+        EXPECT_GE(o->frames_seen, 5u) << t.name;  // every object is in view for many of the 42 frames
+        EXPECT_GT(o->confidence, 0.8) << t.name;
         EXPECT_EQ(o->source, GetParam());
         if (t.semantic == sim::nyu40::kTable)
         {
@@ -153,7 +155,8 @@ TEST_P(Queries, JsonCarriesTheAnswer)
     EXPECT_EQ(j["best"], j["matches"][0]["id"]);
     const nlohmann::json o = toJson(objs);
     ASSERT_EQ(o.size(), objs.size());
-    for (const char* key : {"id", "class", "centroid", "footprint", "voxels", "class_confidence", "source"})
+    for (const char* key : {"id", "class", "centroid", "footprint", "voxels", "class_confidence", "frames_seen",
+                            "confidence", "source"})
         EXPECT_TRUE(o[0].contains(key)) << key;
 }
 

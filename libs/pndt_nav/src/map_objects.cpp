@@ -121,6 +121,8 @@ std::vector<MapObject> mapObjects(const PanopticMap& map, const std::string& sou
         MapObject o;
         o.id = o.instance_id = m.id;
         o.class_id = m.semantic;
+        o.frames_seen = m.frames_seen;
+        o.confidence = m.confidence;
         o.class_name = classes.contains(m.semantic) ? classes.name(m.semantic) : "class " + std::to_string(m.semantic);
         o.source = source;
         const auto it = acc.find(m.id);

@@ -26,8 +26,8 @@ nlohmann::json toJson(const MapObject& o)
             {"class_confidence", o.class_confidence},
             {"instance_confidence", o.instance_confidence},
             {"instance_updates", o.instance_updates},
-            // The map does not count frames per instance (only pixel updates).
-            {"frames_seen", nullptr},
+            {"frames_seen", o.frames_seen},
+            {"confidence", o.confidence},
             {"source", o.source}};
 }
 

@@ -47,6 +47,12 @@ struct MapObject
     double instance_confidence = 0;
     /// Pixel updates of its voxels' instance histograms (sum of n^Z): how much it was seen.
     uint64_t instance_updates = 0;
+    /// Frames in which a prediction was matched to its instance or created it (0
+    /// in maps written before the map counted them).
+    uint32_t frames_seen = 0;
+    /// The map's score of the instance: weight share x (1 - exp(-frames_seen / 3))
+    /// (MapInstance::confidence); what to sort candidates by.
+    double confidence = 0;
     /// The short-term map file it came from (empty for a map being built).
     std::string source;
 };
