@@ -106,4 +106,4 @@ TEST_P(Goal, NoRoomForAHugeRobotIsAClearAnswer)
     EXPECT_FALSE(none.reason.empty());
 }
 
-INSTANTIATE_TEST_SUITE_P(BuiltAndLoaded, Goal, ::testing::Values("built", "loaded"));
+INSTANTIATE_TEST_SUITE_P(BuiltLoadedNoisy, Goal, ::testing::Values("built", "loaded", "noisy"));

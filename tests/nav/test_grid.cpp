@@ -134,4 +134,4 @@ TEST(GridErrors, EmptyMapAndBadOptionsAreClearErrors)
     EXPECT_THROW(buildNavigationGrid(navtest::builtMap().core(), o), InputError);
 }
 
-INSTANTIATE_TEST_SUITE_P(BuiltAndLoaded, Grid, ::testing::Values("built", "loaded"));
+INSTANTIATE_TEST_SUITE_P(BuiltLoadedNoisy, Grid, ::testing::Values("built", "loaded", "noisy"));
