@@ -2,6 +2,7 @@
 // where the room says, the height band, inflation, agreement with the ground
 // truth floor plan. On the map as built and as loaded.
 #include <gtest/gtest.h>
+#include <pndt/nav/map_objects.h>
 #include <pndt/nav/navigation_grid.h>
 
 #include "nav_test_scene.h"
@@ -135,3 +136,25 @@ TEST(GridErrors, EmptyMapAndBadOptionsAreClearErrors)
 }
 
 INSTANTIATE_TEST_SUITE_P(BuiltLoadedNoisy, Grid, ::testing::Values("built", "loaded", "noisy"));
+
+TEST(GridGeometryOnly, AMapWithoutLabelsStillGivesFloorObstaclesAndGrid)
+{
+    // No segmentation (pndt-map's geometry-only mode): the floor comes from the
+    // fullest low voxel layer, obstacles from the band, the grid as before.
+    PanopticNDTMap m;
+    for (const Pose& T : navtest::cameraPoses())
+    {
+        PanopticFrame f = navtest::renderFrame(T);
+        f.semantic = {};
+        f.semantic_score = {};
+        f.instance = {};
+        f.panoptic_score = {};
+        m.integrate(f, T);
+    }
+    EXPECT_NEAR(floorHeight(m.core()), 0.0, 0.05);
+    const NavigationGrid g = buildNavigationGrid(m.core());
+    EXPECT_EQ(stateAt(g.grid, navtest::kTableA.x(), navtest::kTableA.y()), CellState::Occupied);
+    EXPECT_EQ(stateAt(g.grid, 0.1, -2.2), CellState::Free);
+    EXPECT_EQ(stateAt(g.grid, 0.05, 0.05), CellState::Free);
+    EXPECT_TRUE(mapObjects(m.core()).empty());
+}
