@@ -95,6 +95,11 @@ DriveResult driveReactive(const PanopticNDTMap& map, const mrpt::config::CConfig
         nav.enableLogFile(true);
     }
     nav.loadConfigFile(nav_config);
+    const std::string cache = o.ptg_cache_dir.empty()
+                                  ? (std::filesystem::temp_directory_path() / "pndt-nav-ptg-cache").string()
+                                  : o.ptg_cache_dir;
+    std::filesystem::create_directories(cache);
+    nav.params_abstract_ptg_navigator.ptg_cache_files_directory = cache;
     nav.initialize();
 
     mrpt::nav::TWaypointSequence seq;

@@ -21,6 +21,9 @@ struct DriveOptions
     double time_limit = 120;        ///< simulated seconds
     double goal_tolerance = 0.15;   ///< final waypoint's allowed distance (m)
     std::string log_dir;            ///< navigator logs for navlog-viewer (empty = none)
+    /// Where MRPT keeps its PTG look-up tables (seconds to build; reused when the
+    /// PTG settings match). Empty = <temp>/pndt-nav-ptg-cache, never the working folder.
+    std::string ptg_cache_dir;
 };
 
 struct DriveResult
