@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/random/RandomGenerators.h>
 #include <pndt/mrpt/map_files.h>
 #include <pndt/nav/grid_image.h>
 #include <pndt/nav/map_source.h>
@@ -36,6 +37,7 @@ struct Settings
     std::vector<double> band{0.05, 1.8};
     std::vector<std::string> exclude{"floor", "ceiling"};
     bool simulate = false;
+    std::string planner = "simple";
     std::string nav_config = PNDT_NAV_CONFIG;
     double wait_for_map = 0;
     double watch = 0;
@@ -63,6 +65,15 @@ LoadedMap firstMap(const Settings& s)
             std::this_thread::sleep_for(std::chrono::milliseconds(200));
         }
     }
+}
+
+/// The reactive navigator's settings (also the TP-Space planner's PTGs).
+mrpt::config::CConfigFileMemory navigatorConfig(const Settings& s)
+{
+    std::ifstream in(s.nav_config);
+    if (!in) throw InputError(fmt::format("{}: navigator config not found", s.nav_config));
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return mrpt::config::CConfigFileMemory(text);
 }
 
 nlohmann::json run(const Settings& s, LoadedMap& loaded)
@@ -106,25 +117,35 @@ nlohmann::json run(const Settings& s, LoadedMap& loaded)
                                      target->id, goal.clearance);
         if (o.start)
         {
-            path = planPath(grid.grid, *o.start, {goal.x, goal.y}, s.robot_radius);
-            nlohmann::json pj = {{"found", path.found}, {"length", path.length}, {"planning_ms", path.seconds * 1000}};
+            const double yaw0 = s.start.size() >= 3 ? s.start[2] : 0;
+            if (s.planner == "tps")
+            {
+                TpsPlannerOptions t;
+                t.robot_radius = s.robot_radius;
+                path = planPathTPS(*map.getAsSimplePointsMap(), grid.grid, {s.start[0], s.start[1], yaw0},
+                                   {goal.x, goal.y, goal.yaw}, navigatorConfig(s), t);
+            }
+            else
+                path = planPath(grid.grid, *o.start, {goal.x, goal.y}, s.robot_radius);
+            nlohmann::json pj = {{"planner", s.planner == "tps" ? "PlannerRRT_SE2_TPS" : "PlannerSimple2D"},
+                                 {"found", path.found},
+                                 {"length", path.length},
+                                 {"planning_ms", path.seconds * 1000}};
             nlohmann::json pts = nlohmann::json::array();
             for (const auto& p : path.points) pts.push_back({p.x, p.y});
             pj["points"] = pts;
             if (!path.found) pj["reason"] = path.reason;
             result["path"] = pj;
             if (!s.quiet)
-                std::cout << (path.found ? fmt::format("path: {} points, {:.2f} m, planned in {:.2f} ms (PlannerSimple2D)\n",
-                                                       path.points.size(), path.length, path.seconds * 1000)
+                std::cout << (path.found ? fmt::format("path: {} points, {:.2f} m, planned in {:.2f} ms ({})\n",
+                                                       path.points.size(), path.length, path.seconds * 1000,
+                                                       s.planner == "tps" ? "PlannerRRT_SE2_TPS" : "PlannerSimple2D")
                                          : "path: " + path.reason + "\n");
         }
         if (s.simulate)
         {
             if (!path.found) throw InputError("--simulate needs a path (give --start x,y and a reachable goal)");
-            std::ifstream in(s.nav_config);
-            if (!in) throw InputError(fmt::format("{}: navigator config not found", s.nav_config));
-            const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-            mrpt::config::CConfigFileMemory cfg(text);
+            mrpt::config::CConfigFileMemory cfg = navigatorConfig(s);
             // The differential-drive PTGs check collisions with a polygon: an octagon around the disc.
             std::string xs, ys;
             for (int k = 0; k < 8; ++k)
@@ -139,8 +160,8 @@ nlohmann::json run(const Settings& s, LoadedMap& loaded)
             DriveOptions d;
             d.robot_radius = s.robot_radius;
             d.log_dir = (fs::path(s.out) / "navlog").string();
-            const double yaw0 = s.start.size() >= 3 ? s.start[2] : 0;
-            drive = driveReactive(map, cfg, {s.start[0], s.start[1], yaw0}, waypointsOf(path), goal.yaw, d);
+            const double start_yaw = s.start.size() >= 3 ? s.start[2] : 0;
+            drive = driveReactive(map, cfg, {s.start[0], s.start[1], start_yaw}, waypointsOf(path), goal.yaw, d);
             nlohmann::json traj = nlohmann::json::array();
             for (const auto& p : drive.trajectory) traj.push_back({p.x, p.y, p.phi});
             result["simulation"] = {{"reached", drive.reached},
@@ -185,6 +206,8 @@ int main(int argc, char** argv)
     app.add_option("--resolution", s.resolution, "grid cell size in m (0 = the map's voxel size)")->check(CLI::NonNegativeNumber);
     app.add_option("--band", s.band, "obstacle heights above the floor: min,max (m)")->delimiter(',')->expected(2);
     app.add_option("--exclude", s.exclude, "classes that are never obstacles")->delimiter(',');
+    app.add_option("--planner", s.planner, "simple: PlannerSimple2D on the grid; tps: PlannerRRT_SE2_TPS (TP-Space RRT) on the obstacle points")
+        ->check(CLI::IsMember({"simple", "tps"}));
     app.add_flag("--simulate", s.simulate, "drive a simulated robot there with MRPT's reactive navigator");
     app.add_option("--nav-config", s.nav_config, "reactive navigator .ini");
     app.add_option("--wait-for-map", s.wait_for_map, "seconds to wait for a map to appear in the folder");
@@ -195,6 +218,7 @@ int main(int argc, char** argv)
     CLI11_PARSE(app, argc, argv);
     try
     {
+        mrpt::random::getRandomGenerator().randomize(1);  // the TP-Space RRT samples: same answer every run
         LoadedMap loaded = firstMap(s);
         auto answer = [&] {
             const nlohmann::json result = run(s, loaded);

@@ -2,6 +2,8 @@
 // MRPT's PlannerSimple2D, checked against the ground-truth furniture. On the map
 // as built and as loaded.
 #include <gtest/gtest.h>
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/random/RandomGenerators.h>
 #include <pndt/nav/goal_pose.h>
 #include <pndt/nav/navigation_grid.h>
 #include <pndt/nav/object_query.h>
@@ -107,3 +109,29 @@ TEST_P(Goal, NoRoomForAHugeRobotIsAClearAnswer)
 }
 
 INSTANTIATE_TEST_SUITE_P(BuiltLoadedNoisy, Goal, ::testing::Values("built", "loaded", "noisy"));
+
+TEST(GoalTps, TheTpSpacePlannerReachesTheGoalPoseWithItsHeading)
+{
+    // MRPT's TP-Space RRT with the map's obstacle points and the navigator's PTGs.
+    mrpt::random::getRandomGenerator().randomize(3);
+    const PanopticNDTMap& m = navtest::builtMap();
+    const NavigationGrid g = buildNavigationGrid(m.core());
+    const auto objs = mapObjects(m.core(), "", 5);
+    const MapObject& table = *runQuery(objs, m.core().options().classes, "table with most chairs").best();
+    GoalOptions o;
+    o.start = kStart;
+    o.keep_clear_classes = defaultKeepClearClasses(m.core().options().classes);
+    const GoalPose goal = goalNextTo(table, objs, g.grid, o);
+    ASSERT_TRUE(goal.found);
+    mrpt::config::CConfigFile ptgs(PNDT_NAV_CONFIG);
+    TpsPlannerOptions t;
+    t.time_limit = 5;
+    const PlannedPath path = planPathTPS(*m.getAsSimplePointsMap(), g.grid, {kStart.x(), kStart.y(), M_PI / 2},
+                                         {goal.x, goal.y, goal.yaw}, ptgs, t);
+    ASSERT_TRUE(path.found) << path.reason;
+    std::cout << "  TP-Space RRT: " << path.points.size() << " nodes, " << path.length << " m, " << path.seconds
+              << " s\n";
+    EXPECT_LT((Eigen::Vector2d(path.points.back().x, path.points.back().y) - Eigen::Vector2d(goal.x, goal.y)).norm(),
+              t.goal_distance + 1e-6);
+    for (const auto& p : path.points) EXPECT_GE(truthClearance({p.x, p.y}), kRadius - 0.05) << p.x << " " << p.y;
+}

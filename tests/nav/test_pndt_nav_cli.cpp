@@ -99,6 +99,21 @@ TEST(PndtNavCli, TableWithMostChairsGoalPathAndSimulatedDrive)
     fs::remove_all(out);
 }
 
+TEST(PndtNavCli, TpSpacePlannerOnTheObstaclePoints)
+{
+    const fs::path out = tempDir("tps");
+    const RunResult r = run(navtest::savedMapPath() + " --query 'table with most chairs' --start 0.1,-2.2,1.57 --planner tps --out " +
+                            out.string());
+    ASSERT_EQ(r.code, 0) << r.out;
+    const nlohmann::json j = readJson(out / "result.json");
+    EXPECT_EQ(j["path"]["planner"], "PlannerRRT_SE2_TPS");
+    ASSERT_TRUE(j["path"]["found"]) << j["path"];
+    const auto& pts = j["path"]["points"];
+    EXPECT_NEAR(double(pts.back()[0]), double(j["goal"]["pose"][0]), 0.16);
+    EXPECT_NEAR(double(pts.back()[1]), double(j["goal"]["pose"][1]), 0.16);
+    fs::remove_all(out);
+}
+
 TEST(PndtNavCli, AFolderSourceTakesItsNewestMap)
 {
     const fs::path dir = tempDir("folder"), out = dir / "out";

@@ -19,7 +19,7 @@ struct DriveOptions
     double sense_range = 3.0;       ///< obstacle points within this of the robot (m)
     double time_step = 0.1;         ///< simulation step (s)
     double time_limit = 120;        ///< simulated seconds
-    double goal_tolerance = 0.15;   ///< final waypoint's allowed distance (m)
+    double goal_tolerance = 0.20;   ///< final waypoint's allowed distance (m)
     std::string log_dir;            ///< navigator logs for navlog-viewer (empty = none)
     /// Where MRPT keeps its PTG look-up tables (seconds to build; reused when the
     /// PTG settings match). Empty = <temp>/pndt-nav-ptg-cache, never the working folder.
