@@ -105,7 +105,6 @@ TEST_P(Grid, OccupiedCellsAgreeWithTheFloorPlan)
             const bool map_occ = s == CellState::Occupied;
             const bool gt_occ = truthOccupied(navtest::scene(), x, y, 0.1, 0.05, 1.8);
             both += map_occ && gt_occ;
-            if (map_occ != gt_occ && getenv("PNDT_DEBUG_IOU")) std::cout << (map_occ ? "FP " : "FN ") << x << " " << y << "\n";
             either += map_occ || gt_occ;
         }
     const double iou = double(both) / double(either);

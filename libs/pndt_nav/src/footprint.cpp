@@ -83,8 +83,13 @@ double footprintDistance(const Footprint& a, const Footprint& b)
 Footprint minAreaFootprint(const std::vector<Eigen::Vector2d>& points, double pad)
 {
     if (points.empty()) throw std::invalid_argument("minAreaFootprint: no points");
-    Footprint best;
-    double best_area = std::numeric_limits<double>::infinity();
+    struct Candidate
+    {
+        Eigen::Vector2d lo, hi;
+        double area;
+    };
+    std::vector<Candidate> c(90);
+    double min_area = std::numeric_limits<double>::infinity();
     for (int deg = 0; deg < 90; ++deg)
     {
         const double yaw = deg * M_PI / 180.0;
@@ -95,16 +100,23 @@ Footprint minAreaFootprint(const std::vector<Eigen::Vector2d>& points, double pa
             lo = lo.cwiseMin(l);
             hi = hi.cwiseMax(l);
         }
-        const Eigen::Vector2d size = hi - lo;
-        // Strictly smaller (by a hair): an axis-aligned box keeps yaw 0.
-        if (size.x() * size.y() < best_area - 1e-9)
-        {
-            best_area = size.x() * size.y();
-            best.yaw = yaw;
-            best.center = rotate(0.5 * (lo + hi), yaw);
-            best.half_size = 0.5 * size + Eigen::Vector2d(pad, pad);
-        }
+        c[size_t(deg)] = {lo, hi, (hi - lo).prod()};
+        min_area = std::min(min_area, c[size_t(deg)].area);
     }
+    // Near-square or round shapes have about the same area at every angle: of the
+    // angles within 3 % of the smallest area, take the one nearest the axes, so a
+    // chair's footprint does not turn by a noise-picked 27 degrees.
+    auto offAxes = [](int deg) { return std::min(deg, 90 - deg); };
+    int best_deg = -1;
+    for (int deg = 0; deg < 90; ++deg)
+    {
+        if (c[size_t(deg)].area > 1.03 * min_area + 1e-12) continue;
+        if (best_deg < 0 || offAxes(deg) < offAxes(best_deg)) best_deg = deg;
+    }
+    Footprint best;
+    best.yaw = best_deg * M_PI / 180.0;
+    best.center = rotate(0.5 * (c[size_t(best_deg)].lo + c[size_t(best_deg)].hi), best.yaw);
+    best.half_size = 0.5 * (c[size_t(best_deg)].hi - c[size_t(best_deg)].lo) + Eigen::Vector2d(pad, pad);
     // The long side along local x.
     if (best.half_size.y() > best.half_size.x())
     {

@@ -152,11 +152,21 @@ std::vector<MapObject> mapObjects(const PanopticMap& map, const std::string& sou
         o.pieces = uint32_t(pieces.size());
         const size_t split_size =
             std::max<size_t>(options.split_min_voxels, size_t(options.split_min_share * double(pieces[0].size())));
+        // Only a piece whose footprint does not overlap the largest piece's is another
+        // object: a round table's foot under its top (joined by a pole too thin for
+        // the voxels) is not.
+        auto footprintOf = [&](const std::vector<size_t>& piece) {
+            std::vector<Eigen::Vector2d> xy;
+            for (size_t k : piece) xy.push_back(a.points[k].head<2>());
+            return minAreaFootprint(xy, 0.5 * vs);
+        };
+        const Footprint main_footprint = footprintOf(pieces[0]);
         std::vector<size_t> body;
         std::vector<const std::vector<size_t>*> separate;
         for (size_t p = 0; p < pieces.size(); ++p)
         {
-            if (p > 0 && pieces[p].size() >= split_size)
+            if (p > 0 && pieces[p].size() >= split_size &&
+                footprintDistance(main_footprint, footprintOf(pieces[p])) > 0)
                 separate.push_back(&pieces[p]);
             else
                 body.insert(body.end(), pieces[p].begin(), pieces[p].end());

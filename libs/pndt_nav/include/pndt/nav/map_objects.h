@@ -17,8 +17,8 @@ struct ObjectOptions
 {
     /// A connected piece of an instance, apart from its largest, becomes an object
     /// of its own when it has at least this many voxels and this share of the
-    /// largest piece: the map's matching sometimes gives two objects of one class
-    /// one id (two tables 2 m apart, each half of the other's size).
+    /// largest piece, and its footprint does not overlap the largest piece's: the map's matching sometimes gives two objects of one class one id
+    /// (two tables 2 m apart). A round table's foot under its top stays with it.
     uint32_t split_min_voxels = 20;
     double split_min_share = 0.3;
 };
