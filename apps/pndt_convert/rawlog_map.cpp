@@ -3,6 +3,7 @@
 #include <mrpt/obs/CObservationRobotPose.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <pndt/app/map_pictures.h>
 #include <pndt/app/observation_stream.h>
 #include <pndt/look_at.h>
 #include <pndt/mrpt/map_files.h>
@@ -212,15 +213,6 @@ DepthAgreement compareDepth(const Image<float>& measured, const Image<float>& re
     return a;
 }
 
-void writePng(const cv::Mat& image, const std::string& path)
-{
-    io::writeFileAtomically(path, [&](const std::string& tmp) {
-        std::vector<uchar> png;
-        if (!cv::imencode(".png", image, png)) throw std::runtime_error("PNG encoding failed for " + path);
-        std::ofstream f(tmp, std::ios::binary);
-        f.write(reinterpret_cast<const char*>(png.data()), std::streamsize(png.size()));
-        if (!f) throw std::runtime_error("cannot write " + tmp);
-    });
-}
+void writePng(const cv::Mat& image, const std::string& path) { app::writePngFile(image, path); }
 
 }  // namespace pndt::convert

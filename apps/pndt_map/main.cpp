@@ -89,7 +89,7 @@ int main(int argc, char** argv)
     double period = -1, voxel_size = 0;
     int max_frames = 0;
     bool no_progress = false, view = false;
-    std::string screenshot;
+    std::string screenshot, mesh_screenshot;
     DatasetOptions dataset;
     app.add_option("input", input,
                    "rawlog (CObservation3DRangeScan + panoptic CObservationImages [+ CObservationRobotPose]), or a "
@@ -115,6 +115,8 @@ int main(int argc, char** argv)
     app.add_option("--max-frames", max_frames, "stop after this many mapped frames (0 = all)");
     app.add_flag("--no-progress", no_progress, "no progress bar");
     app.add_option("--screenshot", screenshot, "PNG of the final map's 3D view, rendered off-screen");
+    app.add_option("--mesh-screenshot", mesh_screenshot,
+                   "PNG of the final map's voxel surfaces (exposed faces only), rendered off-screen");
     app.add_flag("--view", view, "open an interactive 3D view of the final map (needs a display)");
     CLI11_PARSE(app, argc, argv);
 
@@ -310,7 +312,9 @@ int main(int argc, char** argv)
         writeRenderedViews(core, lookAt(c + Eigen::Vector3d(0, -0.8 * ext.y(), 0.9 * ext.z() + 1.0), c),
                            last->frame.K, out_dir + "/view_overview");
 
+        writeFloorPlan(core, out_dir + "/floor_plan.png");
         if (!screenshot.empty()) writeScreenshot(*final_map, screenshot);
+        if (!mesh_screenshot.empty()) writeMeshScreenshot(*final_map, mesh_screenshot);
         const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
         const FrameStats& st = maps.totals();
         const uint64_t labels_orphaned = pairer.labelImagesDropped() + pairer.labelImagesWaiting();

@@ -2,6 +2,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <pndt/app/map_outputs.h>
+#include <pndt/app/map_pictures.h>
 #include <pndt/mrpt/map_files.h>
 
 #include <fstream>
@@ -11,16 +12,6 @@ namespace pndt::app
 {
 namespace
 {
-void writePng(const cv::Mat& img, const std::string& path)
-{
-    io::writeFileAtomically(path, [&](const std::string& tmp) {
-        std::vector<uchar> png;
-        if (!cv::imencode(".png", img, png)) throw std::runtime_error("PNG encoding failed for " + path);
-        std::ofstream f(tmp, std::ios::binary);
-        f.write(reinterpret_cast<const char*>(png.data()), std::streamsize(png.size()));
-        if (!f) throw std::runtime_error("cannot write " + tmp);
-    });
-}
 nlohmann::json vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 }  // namespace
 
@@ -56,6 +47,8 @@ void writeRenderedViews(const PanopticMap& map, const Pose& T, const CameraIntri
         rgb8 = sem.clone();
     cv::Mat label(K.height, K.width, CV_8UC1, cv::Scalar(0)), depth(K.height, K.width, CV_16UC1, cv::Scalar(0));
     const auto bgr = [](Rgb c) { return cv::Vec3b(c.b, c.g, c.r); };
+    const ClassSet& classes = map.options().classes;
+    std::vector<uint64_t> semantic_pixels(classes.size(), 0), panoptic_pixels(classes.size(), 0);
     for (int r = 0; r < K.height; ++r)
         for (int c = 0; c < K.width; ++c)
         {
@@ -64,6 +57,8 @@ void writeRenderedViews(const PanopticMap& map, const Pose& T, const CameraIntri
             const uint32_t z = v.instance.data[i];
             const uint16_t ps = v.panoptic_semantic.data[i];
             sem.at<cv::Vec3b>(r, c) = bgr(classColor(v.semantic.data[i]));
+            if (v.semantic.data[i] < classes.size()) ++semantic_pixels[v.semantic.data[i]];
+            if (ps < classes.size()) ++panoptic_pixels[ps];
             inst.at<cv::Vec3b>(r, c) = bgr(instanceColor(z));
             pan.at<cv::Vec3b>(r, c) = bgr(z ? instanceColor(z) : classColor(ps));
             // R = class, G<<8|B = instance (stored BGR).
@@ -71,12 +66,25 @@ void writeRenderedViews(const PanopticMap& map, const Pose& T, const CameraIntri
             label.at<uint8_t>(r, c) = uint8_t(v.semantic.data[i]);
             depth.at<uint16_t>(r, c) = uint16_t(std::min(65535.f, v.depth.data[i] * 1000.f));
         }
-    writePng(sem, prefix + "_semantic.png");
-    writePng(inst, prefix + "_instance.png");
-    writePng(pan, prefix + "_panoptic.png");
-    writePng(rgb8, prefix + "_panoptic_rgb8.png");
-    writePng(label, prefix + "_semantic_label.png");
-    writePng(depth, prefix + "_depth.png");
+    // The colour views carry a legend; the encodings stay the image alone.
+    writePngFile(withLegend(sem, classLegend(semantic_pixels, classes)), prefix + "_semantic.png");
+    writePngFile(inst, prefix + "_instance.png");
+    // Panoptic: stuff in its class colour, things in one colour per instance.
+    bool things = false;
+    for (size_t c = 0; c < panoptic_pixels.size(); ++c)
+        if (classes.isThing(uint32_t(c)) && panoptic_pixels[c] > 0)
+        {
+            things = true;
+            panoptic_pixels[c] = 0;
+        }
+    std::vector<LegendEntry> pan_legend = classLegend(panoptic_pixels, classes);
+    if (things) pan_legend.push_back({Rgb{160, 160, 160}, "things: 1 colour each"});
+    writePngFile(withLegend(pan, pan_legend), prefix + "_panoptic.png");
+    writePngFile(rgb8, prefix + "_panoptic_rgb8.png");
+    writePngFile(label, prefix + "_semantic_label.png");
+    writePngFile(depth, prefix + "_depth.png");
 }
+
+void writeFloorPlan(const PanopticMap& map, const std::string& path) { writePngFile(floorPlan(map), path); }
 
 }  // namespace pndt::app

@@ -8,7 +8,10 @@
 #include <pndt/app/map_outputs.h>
 #include <pndt/mrpt/map_files.h>
 
+#include <algorithm>
 #include <cstdlib>
+
+#include "voxel_mesh.h"
 
 namespace pndt::app
 {
@@ -41,17 +44,19 @@ mrpt::opengl::COpenGLScene::Ptr sceneOf(const PanopticNDTMap& map)
 }
 }  // namespace
 
-void writeScreenshot(const PanopticNDTMap& map, const std::string& path, int width, int height, double azimuth,
-                     double elevation)
+namespace
 {
-    auto scene = sceneOf(map);
+/// `scene` rendered off-screen looking at the map's centre, written as PNG atomically.
+void renderToPng(const mrpt::opengl::COpenGLScene::Ptr& scene, const PanopticMap& map, const std::string& path,
+                 int width, int height, double azimuth, double elevation, double zoom = 0.9)
+{
     mrpt::opengl::CFBORender render{unsigned(width), unsigned(height)};
     Eigen::Vector3d c;
     double size;
-    mapBounds(map.core(), c, size);
+    mapBounds(map, c, size);
     auto& cam = render.getCamera(*scene);
     cam.setPointingAt(float(c.x()), float(c.y()), float(c.z()));
-    cam.setZoomDistance(float(0.9 * size));
+    cam.setZoomDistance(float(zoom * size));
     cam.setAzimuthDegrees(float(azimuth));
     cam.setElevationDegrees(float(elevation));
     mrpt::img::CImage img;
@@ -62,6 +67,25 @@ void writeScreenshot(const PanopticNDTMap& map, const std::string& path, int wid
         if (!img.saveToFile(tmp_png)) throw std::runtime_error("cannot write " + tmp_png);
         if (std::rename(tmp_png.c_str(), tmp.c_str()) != 0) throw std::runtime_error("cannot rename " + tmp_png);
     });
+}
+}  // namespace
+
+void writeScreenshot(const PanopticNDTMap& map, const std::string& path, int width, int height, double azimuth,
+                     double elevation)
+{
+    renderToPng(sceneOf(map), map.core(), path, width, height, azimuth, elevation);
+}
+
+void writeMeshScreenshot(const PanopticNDTMap& map, const std::string& path, int width, int height, double azimuth,
+                         double elevation)
+{
+    auto scene = mrpt::opengl::COpenGLScene::Create();
+    auto mesh = exposedFaceMesh(map.core());
+    mesh->enableLight(false);  // the faces carry their own shading
+    scene->insert(mesh);
+    scene->insert(mrpt::opengl::stock_objects::CornerXYZSimple(0.5f, 2.0f));
+    // Solid walls hide the room from a low camera: look from higher and further.
+    renderToPng(scene, map.core(), path, width, height, azimuth, std::max(elevation, 55.0), 1.3);
 }
 
 bool showInteractive(const PanopticNDTMap& map)
