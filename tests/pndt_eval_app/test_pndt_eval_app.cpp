@@ -219,3 +219,35 @@ TEST(GtPoints, ShiftedLabelsBecomeTheSixteenBitEncoding)
     EXPECT_EQ(eval::panopticFromShifted({(5u << 16) | 3}, 65536, "t"), (std::vector<uint32_t>{(5u << 16) | 3}));
     EXPECT_THROW(eval::panopticFromShifted({70000u * 1000}, 1000, "t"), InputError);
 }
+
+TEST(PndtEvalApp, GeneratedSceneMappedAndScoredEqualsTheExperimentsEvaluation)
+{
+    // pndt-generate -> pndt-map -> pndt-eval on the generator's GT cloud, against the
+    // in-process evaluatePoints that pndt-experiments uses, on the same map and points.
+    const fs::path dir = fs::temp_directory_path() / ("pndt_eval_gen_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    const std::string bin = fs::path(PNDT_EVAL_EXE).parent_path().string();
+    auto sh = [](const std::string& cmd) { return std::system((cmd + " > /dev/null 2>&1").c_str()); };
+    ASSERT_EQ(sh(bin + "/pndt-generate --scene small --frames 6 --formats rawlog,gt --threads 1 --out " +
+                 (dir / "scene").string()),
+              0);
+    ASSERT_EQ(sh(bin + "/pndt-map " + (dir / "scene" / "synth_small_cam_01.rawlog").string() + " --no-progress -o " +
+                 (dir / "map").string()),
+              0);
+    const std::string gt = (dir / "scene/gt/ply/synth_small/cam_01/voxel_0_01_maxdepth_10_0.ply").string();
+    const fs::path json = dir / "s.json";
+    const CliRun r = run((dir / "map").string() + " --gt-ply " + gt + " --no-tables --json " + json.string());
+    ASSERT_EQ(r.code, 0) << r.out;
+    const nlohmann::json j = readJson(json).at(0).at("3d");
+
+    const auto map = loadMapArchive((dir / "map" / "map_0000.pndt.gz").string());
+    const eval::GtPoints points = eval::readPlyPoints(gt, true);
+    eval::PanopticEvaluator ev(eval::Benchmark::nyuv2_40());
+    eval::evaluatePoints(map->core(), points.points, points.labels, ev);
+    const eval::EvalResult direct = ev.result();
+    EXPECT_GT(direct.semantic.miou, 0.2);  // a real map of the room
+    EXPECT_DOUBLE_EQ(j["miou"].get<double>(), direct.semantic.miou);
+    EXPECT_DOUBLE_EQ(j["miou_p"].get<double>(), direct.panoptic_semantic.miou);
+    EXPECT_DOUBLE_EQ(j["pq"].get<double>(), direct.pq.all.pq);
+    fs::remove_all(dir);
+}
