@@ -64,7 +64,12 @@ TEST_P(Goal, NextToTheTableWithTheMostChairsFreeReachableAndFacingIt)
     EXPECT_NEAR(std::remainder(goal.yaw - std::atan2(to.y(), to.x()), 2 * M_PI), 0, 1e-9);
     // Not blocking any chair.
     for (const MapObject& m : objs)
-        if (m.class_name == "chair") EXPECT_GE(m.footprint.distanceTo(at), kRadius + o.keep_clear_distance - 1e-9);
+    {
+        if (m.class_name == "chair")
+        {
+            EXPECT_GE(m.footprint.distanceTo(at), kRadius + o.keep_clear_distance - 1e-9);
+        }
+    }
 
     // MRPT's planner gets there, never closer than the robot's radius (less a cell) to the furniture.
     const PlannedPath path = planPath(g.grid, kStart, at, kRadius);
@@ -102,7 +107,9 @@ TEST_P(Goal, NoRoomForAHugeRobotIsAClearAnswer)
     const GoalPose goal = goalNextTo(objs.front(), objs, g.grid, o);
     EXPECT_FALSE(goal.found);
     EXPECT_NE(goal.reason.find("no free, reachable pose"), std::string::npos) << goal.reason;
-    EXPECT_THROW(goalNextTo(objs.front(), objs, g.grid, GoalOptions{0.0}), InputError);
+    GoalOptions no_radius;
+    no_radius.robot_radius = 0;
+    EXPECT_THROW(goalNextTo(objs.front(), objs, g.grid, no_radius), InputError);
     const PlannedPath none = planPath(g.grid, kStart, {6, 6}, 0.3);  // outside the map
     EXPECT_FALSE(none.found);
     EXPECT_FALSE(none.reason.empty());

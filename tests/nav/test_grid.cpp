@@ -56,7 +56,7 @@ TEST_P(Grid, CellsAreFreeOccupiedOrUnknownWhereTheRoomSays)
     // Chair A5's seat.
     EXPECT_EQ(stateAt(g.grid, navtest::kTableA.x() + 1.15, 0.0), CellState::Occupied);
     // Open floor between the tables and the walls.
-    for (const Eigen::Vector2d p : {Eigen::Vector2d(0.1, -2.2), Eigen::Vector2d(0.1, 2.2), Eigen::Vector2d(0.05, 0.05)})
+    for (const Eigen::Vector2d& p : {Eigen::Vector2d(0.1, -2.2), Eigen::Vector2d(0.1, 2.2), Eigen::Vector2d(0.05, 0.05)})
         EXPECT_EQ(stateAt(g.grid, p.x(), p.y()), CellState::Free) << p.transpose();
     // The wall at x = +4 m, beyond it nothing was seen.
     bool wall = false;
@@ -156,4 +156,29 @@ TEST(GridGeometryOnly, AMapWithoutLabelsStillGivesFloorObstaclesAndGrid)
     EXPECT_EQ(stateAt(g.grid, 0.1, -2.2), CellState::Free);
     EXPECT_EQ(stateAt(g.grid, 0.05, 0.05), CellState::Free);
     EXPECT_TRUE(mapObjects(m.core()).empty());
+}
+
+TEST(GridClassTable, AClassTableWithoutFloorOrCeilingNeedsNoOptions)
+{
+    // The default exclusions name NYUv2-40 classes; another class table may lack them.
+    MapOptions o;
+    o.classes = ClassSet({{"void", false}, {"thing", true}});
+    PanopticNDTMap m(o);
+    const auto poses = navtest::cameraPoses();
+    for (size_t i = 0; i < poses.size(); i += 3)
+    {
+        PanopticFrame f = navtest::renderFrame(poses[i]);
+        f.semantic = {};
+        f.semantic_score = {};
+        f.instance = {};
+        f.panoptic_score = {};
+        m.integrate(f, poses[i]);
+    }
+    EXPECT_NO_THROW(buildNavigationGrid(m.core()));
+    mrpt::maps::CSimplePointsMap pts;
+    EXPECT_NO_THROW(obstaclePoints(m.core(), {}, pts));
+    EXPECT_GT(pts.size(), 0u);
+    ObstacleOptions bad;
+    bad.excluded_classes = {"chair"};  // asked for by name: an error
+    EXPECT_THROW(obstaclePoints(m.core(), bad, pts), InputError);
 }

@@ -61,6 +61,8 @@ ObstacleSelection resolveObstacleOptions(const PanopticMap& map, const ObstacleO
     for (const std::string& name : o.excluded_classes)
     {
         const int id = classes.find(name);
+        // The defaults name NYUv2-40 classes; a map with another class table may lack them.
+        if (id < 0 && (name == "floor" || name == "ceiling")) continue;
         if (id < 0)
         {
             std::string known;

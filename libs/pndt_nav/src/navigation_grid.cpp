@@ -33,6 +33,7 @@ std::vector<bool> classMask(const ClassSet& classes, const std::vector<std::stri
     for (const std::string& n : names)
     {
         const int id = classes.find(n);
+        if (id < 0 && (n == "floor" || n == "floor mat")) continue;  // defaults a class table may lack
         if (id < 0) throw InputError(fmt::format("unknown floor class '{}'", n));
         mask[size_t(id)] = true;
     }

@@ -32,7 +32,8 @@ struct ObstacleOptions
     HeightReference reference = HeightReference::Floor;
     /// Floor height in world z; NaN = estimate it from the map (floorHeight()).
     double floor_z = std::numeric_limits<double>::quiet_NaN();
-    /// Class names left out (the map's class table; unknown names are an error).
+    /// Class names left out (the map's class table; unknown names are an error,
+    /// except "floor" and "ceiling", which a non-NYUv2 class table may lack).
     std::vector<std::string> excluded_classes{"floor", "ceiling"};
 
     bool operator==(const ObstacleOptions& o) const;

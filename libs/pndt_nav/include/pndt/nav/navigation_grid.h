@@ -20,7 +20,8 @@ struct GridOptions
     /// floor, floor and ceiling left out).
     ObstacleOptions obstacles;
     /// Occupied voxels of these classes within floor_tolerance of the floor make
-    /// their cell traversable (observed floor). Unknown names are an error.
+    /// their cell traversable (observed floor). Unknown names are an error, except
+    /// the defaults, which a non-NYUv2 class table may lack.
     std::vector<std::string> floor_classes{"floor", "floor mat"};
     double floor_tolerance = 0.15;
     /// Occupied cells grown by this radius (metres; 0 = none). PlannerSimple2D
