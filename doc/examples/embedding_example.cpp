@@ -1,12 +1,14 @@
 // Embedding PanopticNDT in an MRPT navigation app: the code a user copies.
-// (doc/pndt-nav.md walks through it; built and run as the test nav_embedding_example.)
+// (doc/pndt-nav.md walks through it; built by tests/nav/CMakeLists.txt and run as the test
+// nav_embedding_example.)
 //
 //  1. the map comes from an .ini through CMultiMetricMap, like any MRPT map;
 //  2. observations go in as MRPT observations: a CObservation3DRangeScan and its two
 //     panoptic CObservationImages per frame, with the robot pose from the localiser;
 //  3. the navigator asks for obstacles around the robot, a 2D grid for the planner,
 //     and objects ("the table with the most chairs") and a goal next to one.
-// Here the observations come from the tests' generated room instead of a camera.
+// Here the observations come from the tests' generated room (tests/nav/nav_test_scene.h)
+// instead of a camera.
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <pndt/mrpt/PanopticNDTMap.h>
