@@ -4,6 +4,7 @@
 #include <pndt/eval/gt_points.h>
 #include <pndt/eval/map_eval.h>
 #include <pndt/eval/panoptic_codec.h>
+#include <pndt/io/sequence.h>
 #include <pndt/mrpt/map_files.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -249,5 +250,50 @@ TEST(PndtEvalApp, GeneratedSceneMappedAndScoredEqualsTheExperimentsEvaluation)
     EXPECT_DOUBLE_EQ(j["miou"].get<double>(), direct.semantic.miou);
     EXPECT_DOUBLE_EQ(j["miou_p"].get<double>(), direct.panoptic_semantic.miou);
     EXPECT_DOUBLE_EQ(j["pq"].get<double>(), direct.pq.all.pq);
+    fs::remove_all(dir);
+}
+
+TEST(PndtEvalApp, TwoDimensionalScoresOnANicrSequenceEqualTheInProcessRenderedEvaluation)
+{
+    // pndt-generate writes the nicr layout (GT PNGs, poses, intrinsics) and the rawlog;
+    // pndt-eval --nicr renders the map into every 2nd frame; the same frames scored in
+    // process with evaluateView give the same numbers, and the RGB8 PNGs are written.
+    const fs::path dir = fs::temp_directory_path() / ("pndt_eval_2d_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    const std::string bin = fs::path(PNDT_EVAL_EXE).parent_path().string();
+    auto sh = [](const std::string& cmd) { return std::system((cmd + " > /dev/null 2>&1").c_str()); };
+    ASSERT_EQ(sh(bin + "/pndt-generate --scene small --frames 6 --formats rawlog,nicr --threads 1 --out " +
+                 (dir / "scene").string()),
+              0);
+    ASSERT_EQ(sh(bin + "/pndt-map " + (dir / "scene" / "synth_small_cam_01.rawlog").string() + " --no-progress -o " +
+                 (dir / "map").string()),
+              0);
+    const std::string split = (dir / "scene" / "nicr" / "test").string(), seq = "synth_small/cam_01";
+    const fs::path json = dir / "s.json", out = dir / "export";
+    const CliRun r = run((dir / "map" / "map_0000.pndt.gz").string() + " --nicr " + split + " --sequence " + seq +
+                         " --every 2 --no-tables --json " + json.string() + " --export " + out.string());
+    ASSERT_EQ(r.code, 0) << r.out;
+    const nlohmann::json j = readJson(json).at(0).at("2d");
+    EXPECT_EQ(j["frames"].get<size_t>(), 3u);
+
+    const auto map = loadMapArchive((dir / "map" / "map_0000.pndt.gz").string());
+    const io::RgbdSequence s = io::openNicrSequence(split, seq);
+    ASSERT_EQ(s.size(), 6u);
+    eval::PanopticEvaluator ev(eval::Benchmark::nyuv2_40());
+    size_t pngs = 0;
+    for (size_t i = 0; i < s.size(); i += 2)
+    {
+        const io::RgbdFrame f = s.load(i);
+        Image<uint32_t> gt_instance;
+        gt_instance.resize(f.instance_gt.width, f.instance_gt.height, 0u);
+        for (size_t k = 0; k < gt_instance.data.size(); ++k) gt_instance.data[k] = f.instance_gt.data[k];
+        eval::evaluateView(map->core(), *f.T_world_cam, f.K, f.semantic_gt, gt_instance, ev);
+        pngs += fs::exists(out / "2d" / "panoptic_2d" / (f.id + ".png"));
+    }
+    const eval::EvalResult direct = ev.result();
+    EXPECT_GT(direct.semantic.miou, 0.2);
+    EXPECT_DOUBLE_EQ(j["miou"].get<double>(), direct.semantic.miou);
+    EXPECT_DOUBLE_EQ(j["pq"].get<double>(), direct.pq.all.pq);
+    EXPECT_EQ(pngs, 3u);
     fs::remove_all(dir);
 }
