@@ -16,6 +16,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 
 #include "map_scratch.h"
 
@@ -508,7 +509,7 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
             {
                 const int slot = word * 64 + __builtin_ctzll(m);
                 blk->state[slot] = RayBlock::kUnseen;
-                blk->crossings[slot] = 0;
+                if (per_ray) blk->crossings[slot] = 0;  // untouched (not even read) otherwise
             }
         std::memset(blk->touched, 0, sizeof(blk->touched));
         for (auto& nb : blk->neighbour) nb = nullptr;
@@ -622,7 +623,8 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
     };
     // The current voxel of a ray gets its miss; then the ray moves on. False
     // when the ray is done.
-    const auto advance = [&](Lane& L) -> bool {
+    const auto advance = [&](Lane& L, auto per_ray_tag) -> bool {
+        constexpr bool kPerRay = decltype(per_ray_tag)::value;  // no test per step for the mode
         RayBlock* blk = L.blk;
         const uint32_t slot = uint32_t(L.lx) | (uint32_t(L.ly) << BB) | (uint32_t(L.lz) << (2 * BB));
         int32_t state = blk->state[slot];
@@ -636,13 +638,15 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
         {
             MissGaussian& g = w.gaussians[size_t(state - 1)];
             const float delta = float(rule(g.mean, g.info, origin, L.dir, L.end, L.sigma_end));
-            if (per_ray)
+            if constexpr (kPerRay)
                 g.sum += std::llround(double(delta) / kMissQuantum);
             else if (delta < g.delta)
                 g.delta = delta;
         }
-        else if (per_ray && state == RayBlock::kConstant)
-            ++blk->crossings[slot];
+        else if constexpr (kPerRay)
+        {
+            if (state == RayBlock::kConstant) ++blk->crossings[slot];
+        }
         if (--L.remaining == 0) return false;
         // Next voxel, without branches: the axis of the smallest t_max, ties
         // broken as walkSegment does (x before z, y before z, y before x).
@@ -674,10 +678,16 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
     };
 
     Lane L;
-    while (start(L))
-        while (advance(L))
-        {
-        }
+    if (per_ray)
+        while (start(L))
+            while (advance(L, std::true_type{}))
+            {
+            }
+    else
+        while (start(L))
+            while (advance(L, std::false_type{}))
+            {
+            }
     w.steps += steps;
 }
 
