@@ -10,7 +10,8 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libmrpt-dev mrpt-apps            # MRPT 2.5: maps, obs, opengl, serialisation; rawlog-edit & co.
   libeigen3-dev robin-map-dev      # math; the voxel hash map
-  libopencv-dev                    # image codecs (PNG depth, colour)
+  libopencv-dev                    # image codecs (PNG depth, colour); DNN for the segmentation front-end
+  python3-onnx python3-numpy       # tiny ONNX test models, written at build time (tests/seg)
   libfmt-dev libcli11-dev nlohmann-json3-dev zlib1g-dev
   libgtest-dev liboctomap-dev     # OctoMap, for the side-by-side benchmark
   libegl-mesa0 libgl1-mesa-dri     # off-screen rendering of 3D views (EGL, no display)

@@ -1,4 +1,5 @@
 #include "convert.h"
+#include "front_end.h"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -297,7 +298,7 @@ ConvertReport convertSequence(const ConvertOptions& o, const ProgressFn& progres
     if (o.output.empty()) throw InputError("no output rawlog given (-o)");
     const std::string format = toLower(o.format), labels_opt = toLower(o.labels);
     requireOneOf("--format", format, {"auto", "redwood", "tum", "nicr"});
-    requireOneOf("--labels", labels_opt, {"auto", "predictions", "gt", "none"});
+    requireOneOf("--labels", labels_opt, {"auto", "predictions", "gt", "model", "none"});
     if (o.stride == 0) throw InputError("--stride must be at least 1");
     if (!(o.frame_rate_hz > 0) || !std::isfinite(o.frame_rate_hz))
         throw InputError(fmt::format("--frame-rate must be > 0 (got {})", o.frame_rate_hz));
@@ -339,8 +340,12 @@ ConvertReport convertSequence(const ConvertOptions& o, const ProgressFn& progres
         K_override = io::readOpen3dIntrinsicsJson(o.intrinsics_file);
     }
     std::string labels = labels_opt;
-    if (labels == "auto") labels = o.predictions_dir.empty() ? "none" : "predictions";
-    if (report.kind != "nicr" && labels != "none")
+    if (labels == "auto") labels = !o.model.empty() ? "model" : o.predictions_dir.empty() ? "none" : "predictions";
+    if (labels == "model" && o.model.empty()) throw InputError("--labels model needs --model FILE");
+    if (labels != "model" && !o.model.empty())
+        throw InputError(fmt::format("--model labels every frame; it cannot be combined with --labels {}", labels));
+    if (!o.up_world.empty() && o.model.empty()) throw InputError("--up is for the segmentation front-end (--model)");
+    if (report.kind != "nicr" && labels != "none" && labels != "model")
         throw InputError(fmt::format("--labels {}: only nicr-scene-analysis-datasets folders carry labels", labels));
     if (labels == "predictions" && o.predictions_dir.empty())
         throw InputError("--labels predictions needs --predictions DIR (EMSANet's mapping output folder)");
@@ -443,12 +448,15 @@ ConvertReport convertSequence(const ConvertOptions& o, const ProgressFn& progres
         if (!parent.empty()) fs::create_directories(parent, ec);
         if (ec) throw std::runtime_error(fmt::format("{}: cannot create folder: {}", parent.string(), ec.message()));
     }
+    std::optional<FrontEnd> front_end;
+    if (labels == "model") front_end.emplace(o.model, o.up_world, report);
+
     const JpegSerialisation jpeg(o.color_jpeg_quality);
     RawlogFrameWriter writer(o.output, o.rgbd_label, o.gz_level);
     writer.setSensorPose(o.sensor_pose);
 
     io::FrameLoadOptions lo;
-    lo.color = o.color;
+    lo.color = o.color || front_end;  // the front-end needs colour even when it is not embedded
     lo.labels = labels == "gt";
     lo.predictions = labels == "predictions";
 
@@ -518,14 +526,16 @@ ConvertReport convertSequence(const ConvertOptions& o, const ProgressFn& progres
             continue;
         }
 
-        const Image<std::array<uint8_t, 3>>* rgb = nullptr;
-        if (o.color && !f.color.empty())
+        const Image<std::array<uint8_t, 3>>* registered = nullptr;
+        if (!f.color.empty())
         {
             if (f.color.sameSize(pf.depth.width, pf.depth.height) && sameCamera(f.K, f.K_color))
-                rgb = &f.color;
+                registered = &f.color;
             else
                 ++color_unregistered;
         }
+        if (front_end) front_end->label(pf, registered, *T);
+        const Image<std::array<uint8_t, 3>>* rgb = o.color ? registered : nullptr;
         writer.write(pf, rec.t + o.stamp_offset, T, rgb, o.pose_label);
         ++report.frames_written;
         if (pf.hasLabels()) ++report.frames_with_labels;
@@ -571,6 +581,19 @@ std::string formatReport(const ConvertReport& r, const ConvertOptions& o)
     s += fmt::format("  poses              : {}\n", r.pose_source);
     if (r.non_finite_poses) s += fmt::format("  non-finite poses   : {} (ignored)\n", r.non_finite_poses);
     for (const auto& n : r.notes) s += fmt::format("  note: {}\n", n);
+    if (r.frames_segmented)
+    {
+        const double n = double(r.frames_segmented);
+        const double per_frame = (r.segment_preprocess_ms + r.segment_network_ms + r.segment_postprocess_ms) / n;
+        s += fmt::format("  segmentation       : {}\n", r.segmenter);
+        s += fmt::format("    {} frames, {:.1f} ms/frame ({:.1f} frames/s): preprocess {:.1f}, network {:.1f}, "
+                         "post-processing {:.1f} ms\n",
+                         r.frames_segmented, per_frame, per_frame > 0 ? 1000.0 / per_frame : 0.0,
+                         r.segment_preprocess_ms / n, r.segment_network_ms / n, r.segment_postprocess_ms / n);
+        for (const auto& [c, k] : r.detections_per_class) s += fmt::format("    detections {:>6}  {}\n", k, c);
+        for (const auto& [c, k] : r.instances_per_class)
+            s += fmt::format("    instances  {:>6}  {} ({:.2f} per frame)\n", k, c, double(k) / n);
+    }
     s += fmt::format("  time               : {:.2f} s ({:.1f} frames/s)\n", r.seconds,
                      r.seconds > 0 ? double(r.frames_written) / r.seconds : 0.0);
     s += fmt::format("  output             : {} ({:.1f} MB)", o.output, double(r.output_bytes) / 1e6);
@@ -596,6 +619,18 @@ std::string reportJson(const ConvertReport& r, const ConvertOptions& o)
     j["pose_source"] = r.pose_source;
     j["non_finite_poses"] = r.non_finite_poses;
     j["notes"] = r.notes;
+    if (r.frames_segmented)
+    {
+        auto& sj = j["segmentation"];
+        sj["segmenter"] = r.segmenter;
+        sj["frames"] = r.frames_segmented;
+        const double n = double(r.frames_segmented);
+        sj["ms_per_frame"] = {{"preprocess", r.segment_preprocess_ms / n},
+                              {"network", r.segment_network_ms / n},
+                              {"postprocess", r.segment_postprocess_ms / n}};
+        sj["detections_per_class"] = r.detections_per_class;
+        sj["instances_per_class"] = r.instances_per_class;
+    }
     j["seconds"] = r.seconds;
     j["output_bytes"] = r.output_bytes;
     return j.dump(2);

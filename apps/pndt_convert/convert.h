@@ -34,9 +34,15 @@ struct ConvertOptions
     std::string predictions_dir;  ///< EMSANet `mapping` folder (pred_panoptic_{semantic,instance}/)
     std::string semantic_dir;     ///< GT folder override (see NicrOptions)
     std::string instance_dir;
-    /// Which labels to write: "auto" (predictions if predictions_dir is set, else none),
-    /// "predictions", "gt" (ground truth with score 1), "none".
+    /// Which labels to write: "auto" (model if model is set, predictions if predictions_dir is
+    /// set, else none), "predictions", "gt" (ground truth with score 1), "model", "none".
     std::string labels = "auto";
+
+    // --- segmentation front-end (any format): label every frame with a network
+    std::string model;  ///< model description file (pndt_seg, doc/segmentation.md); empty = none
+    /// Gravity up in the pose's world frame ("x y z"), for the detector's floor / wall / ceiling;
+    /// empty = the camera's −y (an upright camera).
+    std::string up_world;
 
     // --- all formats
     std::optional<double> depth_units_per_metre;  ///< default: the format's (mm; TUM 5000)
@@ -97,6 +103,14 @@ struct ConvertReport
     std::vector<std::string> skip_examples;  ///< first few skipped frames with their reason
     size_t non_finite_poses = 0;             ///< in the pose source (ignored)
     std::vector<std::string> notes;          ///< e.g. why colour was not embedded
+    // --- segmentation front-end (with --model)
+    std::string segmenter;                  ///< describe() of the front-end
+    size_t frames_segmented = 0;
+    double segment_preprocess_ms = 0, segment_network_ms = 0, segment_postprocess_ms = 0;  ///< sums
+    /// Detector mode: detections per map class (after the class mapping; "ignored" = class 0).
+    std::map<std::string, size_t> detections_per_class;
+    /// Frames with thing instances per map class name, summed over frames.
+    std::map<std::string, size_t> instances_per_class;
     double seconds = 0;
     uint64_t output_bytes = 0;
     size_t skippedTotal() const;

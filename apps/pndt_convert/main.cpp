@@ -33,10 +33,17 @@ int main(int argc, char** argv)
     g_nicr->add_option("--sequence", o.sequence, "<seq> under depth/ (e.g. structureio_968x1296/scene0000_00)");
     g_nicr->add_option("--predictions", o.predictions_dir,
                        "EMSANet mapping output folder (pred_panoptic_semantic/, pred_panoptic_instance/)");
-    g_nicr->add_option("--labels", o.labels, "auto | predictions | gt | none (auto: predictions if given)")
+    g_nicr->add_option("--labels", o.labels,
+                       "auto | predictions | gt | model | none (auto: model or predictions if given)")
         ->capture_default_str();
     g_nicr->add_option("--semantic-dir", o.semantic_dir, "GT semantic folder (default: semantic_40, ...)");
     g_nicr->add_option("--instance-dir", o.instance_dir, "GT instance folder (default: instance, ...)");
+
+    auto* g_seg = app.add_option_group("segmentation front-end (any format)");
+    g_seg->add_option("--model", o.model,
+                      "label every frame with this model description (JSON beside an .onnx, doc/segmentation.md)");
+    g_seg->add_option("--up", o.up_world,
+                      "gravity up \"x y z\" in the poses' world frame (detector planes; default: camera -y)");
 
     auto* g_in = app.add_option_group("input");
     g_in->add_option("--depth-scale", depth_scale, "depth units per metre (default: 1000; TUM 5000)");
