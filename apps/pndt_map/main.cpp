@@ -103,9 +103,9 @@ int main(int argc, char** argv)
     app.add_option("-o,--out", out_dir, "output folder")->capture_default_str();
     app.add_option("-p,--preset", presets,
                    "preset from config/presets, layered in the order given (repeatable or comma-separated; "
-                   "paper = the paper's rules exactly)")
+                   "paper = the paper's rules exactly; detector = thresholds for the detector front-end's scores)")
         ->delimiter(',')
-        ->check(CLI::IsMember({"scannet", "hypersim", "realworld", "paper"}));
+        ->check(CLI::IsMember({"scannet", "hypersim", "realworld", "paper", "detector"}));
     app.add_option("-c,--config", configs, ".ini files layered over the defaults (repeatable)");
     app.add_option("-s,--set", sets, "override: section.key=value (repeatable)");
     app.add_option("--poses", poses, "external pose file (sets pose_source=file)");

@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <opencv2/dnn.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <pndt/data/npz_writer.h>
 #include <pndt/io/images.h>
@@ -83,8 +84,63 @@ int checkReference(const seg::ModelDescription& d, const std::string& dir, doubl
     return bad ? 1 : 0;
 }
 
+/// Colour frame with the detector's boxes | the label images over it (class colour, instance
+/// outlines in the instance colour), written atomically as DIR/frame_<id>.png.
+void writePicture(const std::string& dir, const io::RgbdFrame& f, const PanopticFrame& labels,
+                  const seg::Segmenter& seg, const ClassSet& classes, double scale)
+{
+    const int W = f.color.width, H = f.color.height;
+    cv::Mat rgb(H, W, CV_8UC3, const_cast<seg::RgbPixel*>(f.color.data.data()));
+    cv::Mat left, right;
+    cv::cvtColor(rgb, left, cv::COLOR_RGB2BGR);
+    right = left.clone();
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+        {
+            const uint16_t c = labels.semantic.at(y, x);
+            if (!c) continue;
+            const Rgb k = classColor(c);
+            auto& px = right.at<cv::Vec3b>(y, x);
+            px = cv::Vec3b(uchar((px[0] + 2 * k.b) / 3), uchar((px[1] + 2 * k.g) / 3), uchar((px[2] + 2 * k.r) / 3));
+            const uint32_t z = labels.hasInstances() ? labels.instance.at(y, x) : 0;
+            const bool edge = z && (x == 0 || y == 0 || x == W - 1 || y == H - 1 || labels.instance.at(y, x - 1) != z ||
+                                    labels.instance.at(y - 1, x) != z || labels.instance.at(y, x + 1) != z ||
+                                    labels.instance.at(y + 1, x) != z);
+            if (edge) px = cv::Vec3b(255, 255, 255);
+        }
+    if (const auto* ds = seg.lastDetections())
+        for (const auto& d : *ds)
+        {
+            cv::rectangle(left, cv::Point(int(d.x0), int(d.y0)), cv::Point(int(d.x1) - 1, int(d.y1) - 1),
+                          cv::Scalar(0, 255, 255), 2);
+            cv::putText(left, fmt::format("{} {:.2f}", seg.detectionClassName(d.model_class), d.score),
+                        cv::Point(int(d.x0) + 3, std::max(14, int(d.y0) + 16)), cv::FONT_HERSHEY_SIMPLEX, 0.5,
+                        cv::Scalar(0, 255, 255), 1, cv::LINE_AA);
+        }
+    // Legend of the classes present.
+    std::set<uint16_t> present(labels.semantic.data.begin(), labels.semantic.data.end());
+    int row = 0;
+    for (uint16_t c : present)
+    {
+        if (!c) continue;
+        const Rgb k = classColor(c);
+        cv::rectangle(right, cv::Rect(8, 8 + 20 * row, 14, 14), cv::Scalar(k.b, k.g, k.r), cv::FILLED);
+        cv::putText(right, classes.name(c), cv::Point(28, 20 + 20 * row), cv::FONT_HERSHEY_SIMPLEX, 0.5,
+                    cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+        ++row;
+    }
+    cv::Mat both;
+    cv::hconcat(left, right, both);
+    if (scale != 1.0) cv::resize(both, both, {}, scale, scale, cv::INTER_AREA);
+    fs::create_directories(dir);
+    const std::string path = (fs::path(dir) / ("frame_" + f.id + ".png")).string();
+    const std::string tmp = path + ".tmp.png";
+    if (!cv::imwrite(tmp, both)) throw std::runtime_error("cannot write " + tmp);
+    fs::rename(tmp, path);
+}
+
 void describeRecording(const std::string& model, const std::string& folder, int frames, int every,
-                       const std::string& up)
+                       const std::string& up, const std::string& pictures, double scale)
 {
     const ClassSet classes = ClassSet::nyuv2_40();
     seg::SegmenterOptions so;
@@ -123,6 +179,7 @@ void describeRecording(const std::string& model, const std::string& folder, int 
                 ++inst[classes.name(out.semantic.data[p])];
             if (out.semantic.data[p] && !classes.isThing(out.semantic.data[p])) ++stuff;
         }
+        if (!pictures.empty() && !f.color.empty()) writePicture(pictures, f, out, *seg, classes, scale);
         std::string is;
         for (const auto& [c, k] : inst) is += fmt::format(" {} {}", k, c);
         fmt::print("frame {}: {:.0f} ms; stuff {:.0f}% of pixels; instances:{}\n  detections:{}\n", f.id,
@@ -135,8 +192,8 @@ void describeRecording(const std::string& model, const std::string& folder, int 
 int main(int argc, char** argv)
 {
     CLI::App app{"pndt-model-check: check a converted segmentation network and show what it sees"};
-    std::string model, write_image, dir, recording, up;
-    double tolerance = 1e-3;
+    std::string model, write_image, dir, recording, up, pictures;
+    double tolerance = 1e-3, picture_scale = 1.0;
     int frames = 5, every = 50;
     app.add_option("--model", model, "model description (JSON)")->required();
     app.add_option("--write-input", write_image, "colour image whose network input blob to write to --dir");
@@ -148,6 +205,8 @@ int main(int argc, char** argv)
     app.add_option("--frames", frames, "frames of --recording")->capture_default_str();
     app.add_option("--every", every, "use every n-th frame")->capture_default_str();
     app.add_option("--up", up, "gravity up \"x y z\" in the recording's world frame");
+    app.add_option("--pictures", pictures, "write each frame's boxes and label images as PNGs into this folder");
+    app.add_option("--picture-scale", picture_scale, "scale of the pictures")->check(CLI::Range(0.05, 4.0));
     CLI11_PARSE(app, argc, argv);
     try
     {
@@ -160,7 +219,7 @@ int main(int argc, char** argv)
         }
         int rc = 0;
         if (!dir.empty()) rc = checkReference(d, dir, tolerance);
-        if (!recording.empty()) describeRecording(model, recording, frames, std::max(1, every), up);
+        if (!recording.empty()) describeRecording(model, recording, frames, std::max(1, every), up, pictures, picture_scale);
         return rc;
     }
     catch (const std::exception& e)

@@ -92,6 +92,15 @@ TEST(Presets, RealWorldUsesTheAppendixMatchingThresholds)
     EXPECT_TRUE(o.class_consistent_instances);
 }
 
+TEST(Presets, DetectorThresholdsAcceptEveryLabelTheDetectorFrontEndGives)
+{
+    // The front-end keeps detections scoring > 0.3: S^L = score, S^P = score^2.
+    const MapOptions o = presetOptions("detector");
+    EXPECT_LT(o.theta_l, 0.3);
+    EXPECT_LT(o.theta_z, 0.3 * 0.3);
+    EXPECT_GT(o.theta_l, 0.2) << "a plane fit below half quality is still rejected (stuff S^L >= 0.5 a)";
+}
+
 TEST(Presets, AnUnknownKeyInAPresetIsAnErrorNamingIt)
 {
     const std::string dir = PNDT_CONFIG_DIR;

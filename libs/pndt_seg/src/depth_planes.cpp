@@ -70,18 +70,84 @@ bool PlaneFinder::classify(StructuralPlane& p, const Eigen::Vector3f& up, const 
     return true;
 }
 
+bool PlaneFinder::nearRegion(const StructuralPlane& p, int row, int col) const
+{
+    const int gy = row / step_, gx = col / step_;
+    for (int y = std::max(0, gy - 1); y <= std::min(grid_h_ - 1, gy + 1); ++y)
+        for (int x = std::max(0, gx - 1); x <= std::min(grid_w_ - 1, gx + 1); ++x)
+            if (p.region[size_t(y) * grid_w_ + x]) return true;
+    return false;
+}
+
+void PlaneFinder::keepLargestRegion(StructuralPlane& p)
+{
+    // Label the inliers' cells, flood-fill each 4-connected group, keep the largest.
+    const size_t cells = size_t(grid_w_) * grid_h_;
+    component_.assign(cells, -2);  // -2 = not an inlier, -1 = inlier not yet visited
+    for (uint32_t i : inliers_) component_[size_t(cell_of_point_[i])] = -1;
+    int best = -1;
+    size_t best_size = 0;
+    int label = 0;
+    for (size_t c0 = 0; c0 < cells; ++c0)
+    {
+        if (component_[c0] != -1) continue;
+        size_t size = 0;
+        stack_.assign(1, int32_t(c0));
+        component_[c0] = label;
+        while (!stack_.empty())
+        {
+            const int c = stack_.back();
+            stack_.pop_back();
+            ++size;
+            const int x = c % grid_w_, y = c / grid_w_;
+            const int nb[4][2] = {{x - 1, y}, {x + 1, y}, {x, y - 1}, {x, y + 1}};
+            for (const auto& q : nb)
+            {
+                if (q[0] < 0 || q[1] < 0 || q[0] >= grid_w_ || q[1] >= grid_h_) continue;
+                const size_t n = size_t(q[1]) * grid_w_ + q[0];
+                if (component_[n] != -1) continue;
+                component_[n] = label;
+                stack_.push_back(int32_t(n));
+            }
+        }
+        if (size > best_size)
+        {
+            best_size = size;
+            best = label;
+        }
+        ++label;
+    }
+    p.region.assign(cells, 0);
+    size_t kept = 0;
+    for (uint32_t i : inliers_)
+        if (component_[size_t(cell_of_point_[i])] == best)
+        {
+            inliers_[kept++] = i;
+            p.region[size_t(cell_of_point_[i])] = 1;
+        }
+    inliers_.resize(kept);
+}
+
 const std::vector<StructuralPlane>& PlaneFinder::find(const Image<float>& depth, const CameraIntrinsics& K,
                                                       const Eigen::Vector3d& up_cam)
 {
     planes_.clear();
     points_.clear();
+    cell_of_point_.clear();
     const int step = std::max(1, o_.plane_sample_step);
-    for (int r = step / 2; r < depth.height; r += step)
-        for (int c = step / 2; c < depth.width; c += step)
+    step_ = step;
+    grid_w_ = (depth.width + step - 1) / step;
+    grid_h_ = (depth.height + step - 1) / step;
+    // One sample per grid cell, at the cell's centre pixel (clamped into the image).
+    for (int gy = 0; gy < grid_h_; ++gy)
+        for (int gx = 0; gx < grid_w_; ++gx)
         {
+            const int r = std::min(depth.height - 1, gy * step + step / 2);
+            const int c = std::min(depth.width - 1, gx * step + step / 2);
             const float z = depth.at(r, c);
             if (!(z > 0) || !std::isfinite(z)) continue;
             points_.push_back(K.unproject(c, r, z).cast<float>());
+            cell_of_point_.push_back(gy * grid_w_ + gx);
         }
     const size_t total = points_.size();
     if (total < 3) return planes_;
@@ -141,14 +207,27 @@ const std::vector<StructuralPlane>& PlaneFinder::find(const Image<float>& depth,
             if (pass == 0 && !fitPlane(points_, inliers_, p.n, p.d)) break;
         }
         if (inliers_.size() < min_samples) break;
-        p.samples = inliers_.size();
-        // The inliers leave the pool whether or not the plane is structural (a table top found
-        // once must not be found again).
+        // All inliers leave the pool whether or not the plane is structural (a table top found
+        // once must not be found again); the plane itself is its largest connected region.
         std::vector<uint8_t> is_inlier(total, 0);
         for (uint32_t i : inliers_) is_inlier[i] = 1;
+        // Vertical planes keep their largest connected region (a wall, not the coplanar side of a
+        // cabinet elsewhere); a horizontal plane is floor or ceiling wherever it is seen.
+        const float cu = std::abs(p.n.dot(up));
+        if (cu < cos_h)
+        {
+            keepLargestRegion(p);
+            if (inliers_.size() >= 3) fitPlane(points_, inliers_, p.n, p.d);
+        }
+        else
+        {
+            p.region.assign(size_t(grid_w_) * grid_h_, 0);
+            for (uint32_t i : inliers_) p.region[size_t(cell_of_point_[i])] = 1;
+        }
+        p.samples = inliers_.size();
         remaining_.erase(std::remove_if(remaining_.begin(), remaining_.end(), [&](uint32_t i) { return is_inlier[i]; }),
                          remaining_.end());
-        if (classify(p, up, inliers_))
+        if (p.samples >= min_samples && classify(p, up, inliers_))
         {
             planes_.push_back(p);
             rejected_in_a_row = 0;

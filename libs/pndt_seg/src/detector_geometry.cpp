@@ -20,7 +20,8 @@ struct DetectorGeometryLabeller::Work
 
 namespace
 {
-constexpr uint32_t kStuff = 0xFFFFFFFFu;
+constexpr uint32_t kStuff = 0xFFFFFFFFu;  ///< floor / ceiling: never part of a thing
+constexpr uint32_t kWall = 0xFFFFFFFEu;   ///< wall: a thing's mask may take it (a TV on the wall)
 }
 
 DetectorGeometryLabeller::DetectorGeometryLabeller(const ClassSet& classes, std::vector<uint16_t> detector_to_class,
@@ -76,7 +77,7 @@ GeometryLabelStats DetectorGeometryLabeller::label(const Image<float>& depth, co
                 for (const auto& p : planes)
                 {
                     const float rel = std::abs(p.n.dot(P) + p.d) / tol;
-                    if (rel < best)
+                    if (rel < best && work_->planes.nearRegion(p, r, c))
                     {
                         best = rel;
                         on = &p;
@@ -86,7 +87,7 @@ GeometryLabelStats DetectorGeometryLabeller::label(const Image<float>& depth, co
                 const int cls = on->kind == PlaneKind::Floor ? floor_ : on->kind == PlaneKind::Ceiling ? ceiling_ : wall_;
                 if (cls == 0) continue;
                 const size_t i = size_t(r) * W + c;
-                owner[i] = kStuff;
+                owner[i] = on->kind == PlaneKind::Wall ? kWall : kStuff;
                 out.semantic.data[i] = uint16_t(cls);
                 out.semantic_score.data[i] = on->gravity_agreement * (1.f - 0.5f * best * best);
             }
@@ -111,7 +112,8 @@ GeometryLabelStats DetectorGeometryLabeller::label(const Image<float>& depth, co
             continue;
         }
         const uint32_t id = next_id;
-        if (work_->masks.grow(depth, d, id, options_.segment_depth_step, options_.min_mask_share, owner) == 0)
+        if (work_->masks.grow(depth, d, id, options_.segment_depth_step, options_.segment_footprints,
+                              0.5 * (K.fx + K.fy), options_.min_mask_share, kWall, owner) == 0)
         {
             ++stats.detections_dropped;
             continue;

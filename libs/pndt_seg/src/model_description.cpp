@@ -94,7 +94,7 @@ void readGeometry(const Reader& r, const json& j, GeometryLabelOptions& o)
     const std::string w = "\"geometry\"";
     r.onlyKeys(j, w, {"plane_sample_step", "plane_inlier_distance", "horizontal_tolerance_deg",
                       "vertical_tolerance_deg", "min_plane_share", "max_planes", "min_wall_extent",
-                      "ransac_iterations", "seed", "segment_depth_step", "min_mask_share"});
+                      "ransac_iterations", "seed", "segment_depth_step", "segment_footprints", "min_mask_share"});
     r.optional(j, "plane_sample_step", w, o.plane_sample_step);
     r.optional(j, "plane_inlier_distance", w, o.plane_inlier_distance);
     r.optional(j, "horizontal_tolerance_deg", w, o.horizontal_tolerance_deg);
@@ -105,6 +105,7 @@ void readGeometry(const Reader& r, const json& j, GeometryLabelOptions& o)
     r.optional(j, "ransac_iterations", w, o.ransac_iterations);
     r.optional(j, "seed", w, o.seed);
     r.optional(j, "segment_depth_step", w, o.segment_depth_step);
+    r.optional(j, "segment_footprints", w, o.segment_footprints);
     r.optional(j, "min_mask_share", w, o.min_mask_share);
 }
 

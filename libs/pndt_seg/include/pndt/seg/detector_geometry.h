@@ -63,7 +63,11 @@ struct GeometryLabelOptions
     uint64_t seed = 1;                  ///< RANSAC is deterministic for a seed
 
     // --- instances from boxes
-    double segment_depth_step = 0.04;   ///< relative depth step (× z) that ends a depth segment
+    /// A depth step between neighbours ends a depth segment when it exceeds both
+    /// segment_depth_step × z and segment_footprints pixel footprints (z / f): the first absorbs
+    /// sensor quantisation, the second keeps surfaces seen at grazing angles (a table top) whole.
+    double segment_depth_step = 0.04;
+    double segment_footprints = 8;
     double min_mask_share = 0.05;       ///< a mask covering less of its box is dropped
 };
 
