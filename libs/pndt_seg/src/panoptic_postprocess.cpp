@@ -236,11 +236,17 @@ void PanopticPostprocessor::groupThingPixels(const PanopticTensors& t)
     {
         const size_t n = std::min(kBlock, N - b0);
         // Each pixel votes for the point pixel + offset; it joins the centre nearest to it.
+        size_t x = b0 % size_t(t.width), y = b0 / size_t(t.width);  // walked, not divided per pixel
         for (size_t i = 0; i < n; ++i)
         {
             const size_t j = b0 + i;
-            vote_x_[i] = float(j % size_t(t.width)) + s * dx[j];
-            vote_y_[i] = float(j / size_t(t.width)) + s * dy[j];
+            vote_x_[i] = float(x) + s * dx[j];
+            vote_y_[i] = float(y) + s * dy[j];
+            if (++x == size_t(t.width))
+            {
+                x = 0;
+                ++y;
+            }
         }
         blockNearestCentre(vote_x_.data(), vote_y_.data(), n, centre_x_.data(), centre_y_.data(), K, best_d_.data(),
                            best_k_.data());
