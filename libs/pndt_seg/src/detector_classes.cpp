@@ -21,6 +21,7 @@ const std::map<std::string, std::string>& cocoToNyu40()
         {"oven", "otherfurniture"},    {"toaster", "otherprop"},   {"clock", "otherprop"},
         {"vase", "otherprop"},         {"cup", "otherprop"},       {"bottle", "otherprop"},
         {"bowl", "otherprop"},         {"teddy bear", "otherprop"}, {"umbrella", "otherprop"},
+        {"tie", "clothes"},
     };
     return table;
 }

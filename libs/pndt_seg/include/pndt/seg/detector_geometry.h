@@ -57,7 +57,7 @@ struct GeometryLabelOptions
     double horizontal_tolerance_deg = 15;  ///< normal within this of gravity → floor / ceiling
     double vertical_tolerance_deg = 15;    ///< normal within this of horizontal → wall
     double min_plane_share = 0.03;      ///< of the frame's valid pixels, smaller planes are ignored
-    int max_planes = 6;
+    int max_planes = 6;                 ///< at most 32 are used
     double min_wall_extent = 0.8;       ///< metres; a vertical plane smaller than this is no wall
     uint32_t ransac_iterations = 200;
     uint64_t seed = 1;                  ///< RANSAC is deterministic for a seed
@@ -86,7 +86,9 @@ struct GeometryLabelStats
 ///    floor (not a table top), the highest above it ceiling;
 ///  - things: each detection (class mapped by `detector_to_class`, 0 = ignored) becomes one
 ///    instance: the connected depth segment at the box centre's depth inside the box, minus
-///    stuff pixels; S^L = S^Z = the detection score, S^P = S^L·S^Z. Where masks overlap the
+///    stuff pixels (the seed: the median depth of a small window at the box centre, or of the
+///    non-stuff pixels of the box's central third when the window is mostly stuff / invalid);
+///    S^L = S^Z = the detection score, S^P = S^L·S^Z. Where masks overlap the
 ///    higher score wins. Instance ids are 1.. in score order within the frame;
 ///  - everything else: class 0 (void), score 0.
 /// `up_cam` is the gravity "up" direction in the camera frame (unit vector); it decides which
