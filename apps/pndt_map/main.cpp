@@ -39,9 +39,18 @@ extern "C" void onSignal(int) { g_stop = true; }
 /// Exit codes: 0 ok, 1 error, 2 input truncated (what could be read was mapped), 130 interrupted.
 constexpr int kExitError = 1, kExitTruncated = 2, kExitInterrupted = 130;
 
+/// $PNDT_CONFIG_DIR, else an installed copy (<prefix>/share/panopticndt/config beside
+/// <prefix>/bin/pndt-map), else the source tree's config/ (a build tree).
 std::string configDir()
 {
     if (const char* d = std::getenv("PNDT_CONFIG_DIR")) return d;
+    std::error_code ec;
+    const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (!ec)
+    {
+        const auto installed = exe.parent_path().parent_path() / "share" / "panopticndt" / "config";
+        if (std::filesystem::is_regular_file(installed / "panoptic_ndt.ini")) return installed.string();
+    }
     return PNDT_CONFIG_DIR;
 }
 

@@ -8,6 +8,7 @@
 // the brick index (voxel_store.h).
 #pragma once
 
+#include <pndt/build_config.h>  // PNDT_QUANTISED_HISTOGRAMS as the library was built
 #include <pndt/gaussian.h>
 #include <pndt/sparse_histogram.h>
 
@@ -25,7 +26,7 @@ constexpr uint8_t kVoidBin = 255;
 // Histogram weights: floats (exact, default) or 16-bit with a shared scale
 // (CMake option PNDT_QUANTISED_HISTOGRAMS: 12 bytes less per label record, 28
 // per instance record; accuracy in doc/results.md, memory in doc/benchmarks.md).
-#ifdef PNDT_QUANTISED_HISTOGRAMS
+#if PNDT_QUANTISED_HISTOGRAMS
 constexpr bool kQuantisedHistograms = true;
 template <int Capacity>
 using HistogramWeights = QuantisedWeights<Capacity>;
