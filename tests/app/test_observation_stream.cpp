@@ -181,3 +181,48 @@ TEST(ReadAheadStream, SameObservationsInOrderAndTheSameStopReason)
     EXPECT_THROW(pndt::app::ReadAheadStream((dir / "missing.rawlog").string()), std::runtime_error);
     fs::remove_all(dir);
 }
+
+// The progress a bar shows is that of the observations handed out, measured in
+// bytes of the file on disk: not of what the reader has read ahead, and not the
+// decompressed offset over the compressed size (which once reached 100 % with a
+// third of the frames mapped).
+TEST(ReadAheadStream, ProgressFollowsTheObservationsHandedOut)
+{
+    const fs::path dir = fs::temp_directory_path() / ("pndt_read_ahead_progress_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const fs::path path = dir / "noise.rawlog";
+    constexpr int kScans = 40;
+    {
+        mrpt::io::CFileGZOutputStream out(path.string());
+        auto ar = mrpt::serialization::archiveFrom(out);
+        uint32_t state = 12345;  // incompressible ranges: every scan takes the same share of the file
+        for (int k = 0; k < kScans; ++k)
+        {
+            mrpt::obs::CObservation3DRangeScan scan;
+            scan.timestamp = mrpt::Clock::fromDouble(100.0 + k);
+            scan.hasRangeImage = true;
+            scan.rangeImage_setSize(160, 200);
+            for (int r = 0; r < 160; ++r)
+                for (int c = 0; c < 200; ++c)
+                {
+                    state = state * 1664525u + 1013904223u;
+                    scan.rangeImage(r, c) = uint16_t(state >> 16);
+                }
+            ar << scan;
+        }
+    }
+    pndt::app::ReadAheadStream in(path.string(), 16);
+    double last = 0;
+    for (int k = 1; k <= kScans; ++k)
+    {
+        ASSERT_TRUE(in.next());
+        const double p = in.progress();
+        EXPECT_GE(p, last);
+        // zlib reads ahead by at most twice its 32 KiB buffer (of ~2.6 MB).
+        EXPECT_NEAR(p, double(k) / kScans, 0.06) << "after " << k << " of " << kScans;
+        last = p;
+    }
+    EXPECT_FALSE(in.next());
+    EXPECT_DOUBLE_EQ(in.progress(), 1.0);
+    fs::remove_all(dir);
+}

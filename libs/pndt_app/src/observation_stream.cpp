@@ -4,6 +4,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <pndt/app/observation_stream.h>
 
+#include "gz_file_input.h"
+
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -24,7 +26,7 @@ namespace pndt::app
 class ObservationStream::GuardedInput : public mrpt::io::CStream
 {
    public:
-    explicit GuardedInput(mrpt::io::CFileGZInputStream& in) : in_(in) {}
+    explicit GuardedInput(GzFileInput& in) : in_(in) {}
     void startObject() { object_start_ = position_; }
 
     size_t Read(void* buffer, size_t count) override
@@ -63,7 +65,7 @@ class ObservationStream::GuardedInput : public mrpt::io::CStream
         }
     }
 
-    mrpt::io::CFileGZInputStream& in_;
+    GzFileInput& in_;
     uint64_t position_ = 0, object_start_ = 0;
     uint64_t last_length_ = ~uint64_t(0);  ///< the value of the last read if it was 4 bytes
 };
@@ -71,8 +73,8 @@ class ObservationStream::GuardedInput : public mrpt::io::CStream
 ObservationStream::ObservationStream(const std::string& path) : path_(path)
 {
     if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(fmt::format("{}: no such file", path));
-    if (!file_.open(path)) throw std::runtime_error(fmt::format("{}: cannot open", path));
-    input_ = std::make_unique<GuardedInput>(file_);
+    file_ = std::make_unique<GzFileInput>(path);
+    input_ = std::make_unique<GuardedInput>(*file_);
     archive_ = std::make_unique<mrpt::serialization::CArchiveStreamBase<mrpt::io::CStream>>(*input_);
 }
 
@@ -80,8 +82,8 @@ ObservationStream::~ObservationStream() = default;
 
 double ObservationStream::progress() const
 {
-    const uint64_t total = file_.getTotalBytesCount();
-    return total ? std::min(1.0, double(file_.getPosition()) / double(total)) : 1.0;
+    const uint64_t total = file_->getTotalBytesCount();
+    return total ? std::min(1.0, double(file_->compressedPosition()) / double(total)) : 1.0;
 }
 
 mrpt::obs::CObservation::Ptr ObservationStream::next()
@@ -123,7 +125,7 @@ mrpt::obs::CObservation::Ptr ObservationStream::next()
             ended_ = truncated_ = true;
             stop_reason_ = fmt::format("{}: truncated or corrupt at object #{} (it starts at decompressed "
                                        "byte {}; the file has {} bytes): {}",
-                                       path_, objects_ + 1, at, file_.getTotalBytesCount(), cause);
+                                       path_, objects_ + 1, at, file_->getTotalBytesCount(), cause);
             return nullptr;
         }
         ++objects_;

@@ -31,8 +31,8 @@ void ReadAheadStream::readLoop()
         {
             error = std::current_exception();
         }
+        const double read_to = in_.progress();
         std::unique_lock<std::mutex> lock(mutex_);
-        progress_ = in_.progress();
         if (!obs || error)
         {
             error_ = error;
@@ -42,7 +42,7 @@ void ReadAheadStream::readLoop()
         }
         changed_.wait(lock, [&] { return stop_ || queue_.size() < depth_; });
         if (stop_) return;
-        queue_.push_back(std::move(obs));
+        queue_.emplace_back(std::move(obs), read_to);
         changed_.notify_all();
     }
 }
@@ -53,11 +53,13 @@ mrpt::obs::CObservation::Ptr ReadAheadStream::next()
     changed_.wait(lock, [&] { return !queue_.empty() || ended_; });
     if (!queue_.empty())
     {
-        auto obs = std::move(queue_.front());
+        auto obs = std::move(queue_.front().first);
+        progress_ = queue_.front().second;
         queue_.pop_front();
         changed_.notify_all();
         return obs;
     }
+    progress_ = 1.0;
     if (error_) std::rethrow_exception(error_);
     return nullptr;
 }

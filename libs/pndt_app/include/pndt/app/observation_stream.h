@@ -2,7 +2,6 @@
 // actions/sensory-frames), with a clear account of where a damaged file stops.
 #pragma once
 
-#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CObservation.h>
 #include <mrpt/serialization/CArchive.h>
 
@@ -12,6 +11,8 @@
 
 namespace pndt::app
 {
+class GzFileInput;
+
 class ObservationStream
 {
    public:
@@ -27,14 +28,14 @@ class ObservationStream
     /// Why reading stopped early: file, object number, byte position, cause.
     const std::string& stopReason() const { return stop_reason_; }
     size_t objectsRead() const { return objects_; }
-    /// Fraction of the (compressed) file consumed, for progress bars.
+    /// Fraction of the file on disk consumed (compressed bytes), for progress bars.
     double progress() const;
     const std::string& path() const { return path_; }
 
    private:
     class GuardedInput;
+    std::unique_ptr<GzFileInput> file_;
     std::string path_;
-    mrpt::io::CFileGZInputStream file_;
     std::unique_ptr<GuardedInput> input_;  ///< file_, failing reads that end inside an object
     std::unique_ptr<mrpt::serialization::CArchive> archive_;
     std::deque<mrpt::obs::CObservation::Ptr> queued_;  ///< rest of a sensory frame

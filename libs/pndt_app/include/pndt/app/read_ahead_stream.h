@@ -30,7 +30,8 @@ class ReadAheadStream
     mrpt::obs::CObservation::Ptr next();
     bool truncated() const;
     const std::string& stopReason() const;
-    /// Fraction of the file the reader has consumed.
+    /// Fraction of the file up to the end of the observation next() returned
+    /// last (not of what the reader has read ahead).
     double progress() const;
     const std::string& path() const { return in_.path(); }
 
@@ -41,7 +42,7 @@ class ReadAheadStream
     const size_t depth_;
     mutable std::mutex mutex_;
     std::condition_variable changed_;
-    std::deque<mrpt::obs::CObservation::Ptr> queue_;
+    std::deque<std::pair<mrpt::obs::CObservation::Ptr, double>> queue_;  ///< with progress()
     bool ended_ = false, stop_ = false;
     std::exception_ptr error_;
     double progress_ = 0;
