@@ -13,6 +13,7 @@ PACKAGES=(
   libopencv-dev                    # image codecs (PNG depth, colour); DNN for the segmentation front-end
   python3-onnx python3-numpy       # tiny ONNX test models, written at build time (tests/seg)
   libfmt-dev libcli11-dev nlohmann-json3-dev zlib1g-dev
+  libceres-dev                     # frame-to-map pose refinement (libs/pndt_refine)
   libgtest-dev liboctomap-dev     # OctoMap, for the side-by-side benchmark
   libegl-mesa0 libgl1-mesa-dri     # off-screen rendering of 3D views (EGL, no display)
   xvfb xauth                       # a virtual display for the interactive viewer
