@@ -57,7 +57,7 @@ TEST(Presets, PaperFixesEveryOptionANewOneMustBeDecidedHere)
     std::ostringstream dump;
     dumpMapOptions(presetOptions("paper"), dump);
     EXPECT_EQ(dump.str(),
-              "voxel_size = 0.1\nmax_range = 10\nuse_ndt = true\nray_mode = per_pixel\nmiss_accumulation = per_ray\n"
+              "voxel_size = 0.1\nmax_range = 10\nmax_range_along = z\nuse_ndt = true\nray_mode = per_pixel\nmiss_accumulation = per_ray\n"
               "log_odds_hit = 0.85\nlog_odds_miss = -0.4\nlog_odds_min = -2\nlog_odds_max = 3.5\n"
               "occupied_threshold = 0\nreset_freed_voxels = false\nndt_min_samples = 3\nndt_sample_cap = 1000\n"
               "ndt_min_sigma_ratio = 0.05\nmiss_min_likelihood = 0.3\nmiss_likelihood_scale = 0.1\n"
@@ -125,5 +125,19 @@ TEST(Presets, AnUnknownKeyInAPresetIsAnErrorNamingIt)
     {
         EXPECT_NE(std::string(e.what()).find("'sometimes' is not one of strongest, per_ray"), std::string::npos)
             << e.what();
+    }
+    // max_range along rays, and a wrong value named with the choices.
+    cfg = app::loadLayeredConfig({dir + "/panoptic_ndt.ini"}, {"MAP_PanopticNDTMap_00_creationOpts.max_range_along=ray"});
+    loadMapOptions(cfg, "MAP_PanopticNDTMap_00_creationOpts", o);
+    EXPECT_EQ(o.max_range_along, RangeKind::Ray);
+    cfg = app::loadLayeredConfig({dir + "/panoptic_ndt.ini"}, {"MAP_PanopticNDTMap_00_creationOpts.max_range_along=euclid"});
+    try
+    {
+        loadMapOptions(cfg, "MAP_PanopticNDTMap_00_creationOpts", o);
+        FAIL() << "expected an error";
+    }
+    catch (const std::exception& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("'euclid' is not one of z, ray"), std::string::npos) << e.what();
     }
 }

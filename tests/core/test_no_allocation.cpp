@@ -69,3 +69,40 @@ TEST(NoAllocation, RepeatedFramesAllocateNothing)
         EXPECT_EQ(g_allocations.load(), 0u) << threads << " thread(s), variant " << variant;
     }
 }
+
+// A camera's uint16 millimetres through FrameView: converted into buffers the map
+// keeps, so repeated frames allocate nothing either.
+TEST(NoAllocation, Uint16DepthViewsAllocateNothing)
+{
+    const sim::Scene scene = sim::makeTableWithChairsRoom();
+    const CameraIntrinsics K{320, 240, 262.5, 262.5, 159.5, 119.5};
+    const auto poses = sim::orbit({0, 0, 0}, 2.2, 1.4, 0.5, 3);
+    std::vector<std::vector<uint16_t>> mm;
+    sim::RenderedFrame r;
+    for (const Pose& T : poses)
+    {
+        sim::render(scene, T, K, r);
+        std::vector<uint16_t> d(r.depth.data.size());
+        for (size_t i = 0; i < d.size(); ++i) d[i] = uint16_t(std::min(65535.f, r.depth.data[i] * 1000.f));
+        mm.push_back(std::move(d));
+    }
+    MapOptions o;
+    o.max_range_along = RangeKind::Ray;  // the conversion pass with the ray limit too
+    PanopticMap map(o);
+    const auto pass = [&] {
+        for (size_t i = 0; i < mm.size(); ++i)
+        {
+            FrameView v;
+            v.K = K;
+            v.depth = DepthView::units(mm[i].data(), K.width, K.height);
+            map.integrate(v, poses[i]);
+        }
+    };
+    pass();
+    pass();
+    g_allocations = 0;
+    g_counting = true;
+    pass();
+    g_counting = false;
+    EXPECT_EQ(g_allocations.load(), 0u);
+}

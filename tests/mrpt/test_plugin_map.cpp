@@ -9,6 +9,8 @@
 #include <pndt/mrpt/PanopticNDTMap.h>
 #include <pndt/mrpt/observation_frame.h>
 
+#include <cstring>
+
 #include "observation_fixtures.h"
 
 using namespace pndt;
@@ -267,4 +269,33 @@ TEST(PluginView, VisualizationAndText)
     EXPECT_GT(ell.size(), scene.size());  // one object per Gaussian
     const std::string s = m.asString();
     EXPECT_NE(s.find("PanopticNDTMap: voxel 0.100 m"), std::string::npos) << s;
+}
+
+// A range scan's uint16 image read in place (frameViewOf) maps exactly like the
+// float copy depthFrameFrom makes, for depth and for Euclidean-range images.
+TEST(PluginFrameView, ARangeScanViewMapsLikeItsFloatCopy)
+{
+    for (const bool range_is_depth : {true, false})
+    {
+        auto scan = fixtures::wallScan(0.0, 2.0f);
+        for (int r = 0; r < fixtures::kH; ++r)
+            for (int c = 0; c < fixtures::kW; ++c) scan->rangeImage(r, c) = uint16_t(1500 + 10 * r + 3 * c);
+        scan->rangeImage(2, 3) = 0;  // invalid stays invalid
+        scan->range_is_depth = range_is_depth;
+        PanopticFrame copy;
+        depthFrameFrom(*scan, copy);
+        std::string source;
+        const FrameView view = frameViewOf(*scan, source);
+        EXPECT_EQ(source, describeObservation(*scan));
+        EXPECT_EQ(view.depth.data, static_cast<const void*>(&scan->rangeImage(0, 0)));  // no copy
+        EXPECT_EQ(view.depth.measures, range_is_depth ? RangeKind::Z : RangeKind::Ray);
+        PanopticNDTMap a, b;
+        const Pose T = cameraPoseInWorld(mrpt::poses::CPose3D(), scan->sensorPose);
+        const FrameStats sa = a.integrate(copy, T), sb = b.integrate(view, T);
+        EXPECT_EQ(sa.valid_pixels, uint64_t(fixtures::kW * fixtures::kH - 1));
+        EXPECT_EQ(sa.valid_pixels, sb.valid_pixels);
+        EXPECT_EQ(a.core().voxels().packedKeys(), b.core().voxels().packedKeys());
+        EXPECT_EQ(0, std::memcmp(a.core().surfaceRecords().data(), b.core().surfaceRecords().data(),
+                                 sizeof(SurfaceRecord) * a.core().surfaceRecords().size()));
+    }
 }

@@ -171,6 +171,7 @@ TEST(PluginSerialization, RoundTripKeepsTheRulesBeyondThePaper)
     o.fragment_min_mask_pixels = 17;
     o.fragment_cover_share = 0.6;
     o.fragment_joint_factor = 1.5;
+    o.max_range_along = RangeKind::Ray;
     const PanopticNDTMap m(o);
     const auto back = std::dynamic_pointer_cast<PanopticNDTMap>(deserialize(serialize(m)));
     ASSERT_TRUE(back);
@@ -189,6 +190,7 @@ TEST(PluginSerialization, RoundTripKeepsTheRulesBeyondThePaper)
     EXPECT_EQ(b.fragment_min_mask_pixels, 17u);
     EXPECT_EQ(b.fragment_cover_share, 0.6);
     EXPECT_EQ(b.fragment_joint_factor, 1.5);
+    EXPECT_EQ(b.max_range_along, RangeKind::Ray);
 }
 
 namespace
@@ -367,6 +369,7 @@ TEST(PluginSerialization, OldVersionsLoadWithTheRulesTheyWereBuiltWith)
     EXPECT_EQ(o.instance_class_voxels, InstanceClassVoxels::PanopticThing);
     EXPECT_TRUE(o.semantic_eviction);
     EXPECT_FALSE(o.void_bin);
+    EXPECT_EQ(o.max_range_along, RangeKind::Z);  // version 5's option: z before it
 }
 
 TEST(PluginSerialization, ReadsVersion0Archives)

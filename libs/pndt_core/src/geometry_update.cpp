@@ -18,6 +18,7 @@
 #include <cstring>
 #include <type_traits>
 
+#include "frame_pixels.h"
 #include "map_scratch.h"
 
 namespace pndt
@@ -59,7 +60,7 @@ void setupProjection(const CameraIntrinsics& K, const Pose& T, double voxel_size
 inline size_t share(size_t n, int task, int tasks) { return n * size_t(task) / size_t(tasks); }
 }  // namespace
 
-void PanopticMap::projectPixels(const PanopticFrame& f, const Pose& T, FrameStats& st)
+void PanopticMap::projectPixels(const FramePixels& f, const Pose& T, FrameStats& st)
 {
     Scratch& s = scratch();
     const int W = f.depth.width, H = f.depth.height;
@@ -211,7 +212,7 @@ void PanopticMap::projectPixels(const PanopticFrame& f, const Pose& T, FrameStat
     for (uint32_t i = 0; i < g.count; ++i) s.hit_bits[g.hits[i].voxel >> 6] |= uint64_t(1) << (g.hits[i].voxel & 63);
 }
 
-void PanopticMap::projectBand(const PanopticFrame& f, const Pose& T, int b, int B)
+void PanopticMap::projectBand(const FramePixels& f, const Pose& T, int b, int B)
 {
     Scratch& s = *scratch_;
     ProjectionBand& band = s.bands[size_t(b)];

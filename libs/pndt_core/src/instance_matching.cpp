@@ -7,12 +7,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "frame_pixels.h"
 #include "map_scratch.h"
 #include "predicted_pixels.h"
 
 namespace pndt
 {
-void PanopticMap::predictedBand(const PanopticFrame& f, int band, int bands)
+void PanopticMap::predictedBand(const FramePixels& f, int band, int bands)
 {
     Scratch& s = *scratch_;
     const int W = f.depth.width, H = f.depth.height;
@@ -21,7 +22,7 @@ void PanopticMap::predictedBand(const PanopticFrame& f, int band, int bands)
                     s.pixel_predicted.data(), i0, i1, s.predicted_bands[size_t(band)], bestContinueInstance());
 }
 
-void PanopticMap::matchInstances(const PanopticFrame& f, const Pose& T, FrameStats& st)
+void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats& st)
 {
     Scratch& s = *scratch_;
     const size_t N = f.depth.data.size();
@@ -316,7 +317,7 @@ void PanopticMap::classifyMapInstances()
     }
 }
 
-void PanopticMap::splitMergedPredictions(const PanopticFrame& f, FrameStats& st)
+void PanopticMap::splitMergedPredictions(const FramePixels& f, FrameStats& st)
 {
     Scratch& s = *scratch_;
     s.split_pixels = false;
@@ -369,7 +370,7 @@ MaskFootprint PanopticMap::maskFootprint(uint32_t voxel, const Pose& T_cam_world
 }
 
 template <class Visit>
-void PanopticMap::forEachFootprintPixel(const MaskFootprint& fp, int row_begin, int row_end, const PanopticFrame& f,
+void PanopticMap::forEachFootprintPixel(const MaskFootprint& fp, int row_begin, int row_end, const FramePixels& f,
                                         Visit&& visit)
 {
     Scratch& s = *scratch_;

@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <type_traits>
 
+#include "frame_pixels.h"
 #include "map_scratch.h"
 
 namespace pndt
@@ -58,7 +59,7 @@ inline void continueRun(bool take, float score, float& run_w, uint32_t& run_n, u
 
 }  // namespace
 
-void PanopticMap::updateHistograms(const PanopticFrame& f, FrameStats& st)
+void PanopticMap::updateHistograms(const FramePixels& f, FrameStats& st)
 {
     Scratch& s = *scratch_;
     const uint32_t nh = s.hitCount();
@@ -130,7 +131,7 @@ void PanopticMap::updateHistograms(const PanopticFrame& f, FrameStats& st)
     }
 }
 
-void PanopticMap::histogramTask(const PanopticFrame& f, int task)
+void PanopticMap::histogramTask(const FramePixels& f, int task)
 {
     Scratch& s = *scratch_;
     HistogramWorker& w = s.hist_workers[size_t(task)];

@@ -11,6 +11,7 @@
 #include <mutex>
 #include <vector>
 
+#include "frame_pixels.h"
 #include "mask_footprint.h"
 #include "projection_kernels.h"
 #include "worker_pool.h"
@@ -299,6 +300,7 @@ struct PanopticMap::Scratch
 {
     std::unique_ptr<WorkerPool> pool;
     int threads = 1;
+    FrameInputBuffers input;  ///< converted depth / strided labels of FrameView input
 
     // projection
     ProjectionSetup projection;

@@ -1,4 +1,5 @@
 // PanopticMap: construction, the frame-update sequence, state access.
+#include "frame_pixels.h"
 #include "map_scratch.h"
 
 #include <fmt/format.h>
@@ -128,31 +129,8 @@ PanopticMap::Scratch& PanopticMap::scratch()
     return s;
 }
 
-void PanopticMap::validateFrame(const PanopticFrame& f) const
+void PanopticMap::validateClasses(const FramePixels& f) const
 {
-    const auto where = [&] { return f.source.empty() ? std::string("frame") : f.source; };
-    if (!f.K.valid())
-        throw InputError(fmt::format("{}: invalid camera intrinsics (size {}x{}, fx={}, fy={})", where(), f.K.width,
-                                     f.K.height, f.K.fx, f.K.fy));
-    if (f.K.width > 32767 || size_t(f.K.width) * size_t(f.K.height) >= (size_t(1) << 25))
-        throw InputError(fmt::format("{}: a {}x{} image is too large (at most 32767 columns and 2^25 pixels)",
-                                     where(), f.K.width, f.K.height));
-    if (!f.depth.sameSize(f.K.width, f.K.height) || f.depth.data.size() != size_t(f.K.width) * f.K.height)
-        throw InputError(fmt::format("{}: depth image is {}x{} but the intrinsics are for {}x{}", where(),
-                                     f.depth.width, f.depth.height, f.K.width, f.K.height));
-    const auto checkSize = [&](const auto& img, const char* what) {
-        if (!img.empty() && (!img.sameSize(f.depth.width, f.depth.height) || img.data.size() != f.depth.data.size()))
-            throw InputError(fmt::format("{}: {} image is {}x{} but the depth image is {}x{}", where(), what,
-                                         img.width, img.height, f.depth.width, f.depth.height));
-    };
-    checkSize(f.semantic, "semantic");
-    checkSize(f.semantic_score, "semantic score");
-    checkSize(f.instance, "instance");
-    checkSize(f.panoptic_score, "panoptic score");
-    if (f.hasLabels() && f.semantic_score.empty())
-        throw InputError(fmt::format("{}: semantic labels without semantic scores", where()));
-    if (f.hasInstances() && (f.panoptic_score.empty() || !f.hasLabels()))
-        throw InputError(fmt::format("{}: instance ids need panoptic scores and semantic labels", where()));
     // One branch-free pass for the common case (in parallel), the offending
     // pixel only on error.
     const uint16_t* labels = f.semantic.data.data();
@@ -183,11 +161,28 @@ void PanopticMap::validateFrame(const PanopticFrame& f) const
         if (!options_.classes.contains(f.semantic.data[i]))
             throw InputError(fmt::format("{}: class id {} at pixel (row {}, col {}) is outside the class set "
                                          "(0..{})",
-                                         where(), f.semantic.data[i], i / f.depth.width, i % f.depth.width,
+                                         f.where(), f.semantic.data[i], i / f.depth.width, i % f.depth.width,
                                          options_.classes.size() - 1));
 }
 
-FrameStats PanopticMap::integrate(const PanopticFrame& frame, const Pose& T_world_cam)
+FrameStats PanopticMap::integrate(const PanopticFrame& f, const Pose& T_world_cam)
+{
+    // An owned image whose pixel count disagrees with its size cannot be viewed.
+    const auto checkOwned = [&](const auto& img, const char* what) {
+        if (img.data.size() != size_t(img.width) * size_t(std::max(img.height, 0)) || img.width < 0 || img.height < 0)
+            throw InputError(fmt::format("{}: {} image holds {} pixels but is {}x{}",
+                                         f.source.empty() ? std::string("frame") : f.source, what, img.data.size(),
+                                         img.width, img.height));
+    };
+    checkOwned(f.depth, "depth");
+    checkOwned(f.semantic, "semantic");
+    checkOwned(f.semantic_score, "semantic score");
+    checkOwned(f.instance, "instance");
+    checkOwned(f.panoptic_score, "panoptic score");
+    return integrate(FrameView(f), T_world_cam);
+}
+
+FrameStats PanopticMap::integrate(const FrameView& view, const Pose& T_world_cam)
 {
     using Clock = std::chrono::steady_clock;
     const auto seconds = [](Clock::time_point a, Clock::time_point b) {
@@ -195,9 +190,10 @@ FrameStats PanopticMap::integrate(const PanopticFrame& frame, const Pose& T_worl
     };
     // Workers stay awake through the frame's stages (they check the frame too).
     const WorkerPool::Burst burst(scratch().pool.get());
-    validateFrame(frame);
+    const FramePixels frame = resolveFrame(view, options_, scratch_->input);
+    validateClasses(frame);
     if (!T_world_cam.matrix().allFinite())
-        throw InputError(fmt::format("{}: camera pose is not finite", frame.source.empty() ? "frame" : frame.source));
+        throw InputError(fmt::format("{}: camera pose is not finite", frame.where()));
 
     FrameStats st;
     invalidate();

@@ -54,6 +54,13 @@ FrameStats PanopticNDTMap::integrate(const PanopticFrame& frame, const Pose& T_w
     return st;
 }
 
+FrameStats PanopticNDTMap::integrate(const FrameView& frame, const Pose& T_world_cam)
+{
+    const FrameStats st = map_.integrate(frame, T_world_cam);
+    stats_.totals += st;
+    return st;
+}
+
 void PanopticNDTMap::integratePaired()
 {
     for (const PairedFrame& p : paired_)

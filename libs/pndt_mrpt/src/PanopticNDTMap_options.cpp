@@ -48,6 +48,7 @@ ClassSet readClassSet(ConfigSection& s)
     return ClassSet(std::move(classes));
 }
 
+const char* rangeKindName(RangeKind k) { return k == RangeKind::Z ? "z" : "ray"; }
 const char* rayModeName(RayMode m) { return m == RayMode::Merged ? "merged" : "per_pixel"; }
 const char* missAccumulationName(MissAccumulation m)
 {
@@ -84,6 +85,7 @@ void loadMapOptions(const mrpt::config::CConfigFileBase& c, const std::string& s
     ConfigSection s(c, section);
     s.read("voxel_size", o.voxel_size);
     s.read("max_range", o.max_range);
+    readChoice(s, section, "max_range_along", o.max_range_along, rangeKindName, {RangeKind::Z, RangeKind::Ray});
     s.read("use_ndt", o.use_ndt);
     readChoice(s, section, "ray_mode", o.ray_mode, rayModeName, {RayMode::Merged, RayMode::PerPixel});
     readChoice(s, section, "miss_accumulation", o.miss_accumulation, missAccumulationName,
@@ -144,11 +146,11 @@ void loadMapOptions(const mrpt::config::CConfigFileBase& c, const std::string& s
 void dumpMapOptions(const MapOptions& o, std::ostream& out)
 {
     out << fmt::format(
-        "voxel_size = {}\nmax_range = {}\nuse_ndt = {}\nray_mode = {}\nmiss_accumulation = {}\nlog_odds_hit = {}\n"
+        "voxel_size = {}\nmax_range = {}\nmax_range_along = {}\nuse_ndt = {}\nray_mode = {}\nmiss_accumulation = {}\nlog_odds_hit = {}\n"
         "log_odds_miss = {}\nlog_odds_min = {}\nlog_odds_max = {}\noccupied_threshold = {}\nreset_freed_voxels = {}\n"
         "ndt_min_samples = {}\nndt_sample_cap = {}\nndt_min_sigma_ratio = {}\nmiss_min_likelihood = {}\n"
         "miss_likelihood_scale = {}\nsensor_sigma_base = {}\nsensor_sigma_quadratic = {}\n",
-        o.voxel_size, o.max_range, o.use_ndt, rayModeName(o.ray_mode), missAccumulationName(o.miss_accumulation),
+        o.voxel_size, o.max_range, rangeKindName(o.max_range_along), o.use_ndt, rayModeName(o.ray_mode), missAccumulationName(o.miss_accumulation),
         o.log_odds_hit, o.log_odds_miss, o.log_odds_min, o.log_odds_max, o.occupied_threshold, o.reset_freed_voxels,
         o.ndt_min_samples, o.ndt_sample_cap, o.ndt_min_sigma_ratio, o.miss_min_likelihood, o.miss_likelihood_scale,
         o.sensor_sigma_base, o.sensor_sigma_quadratic);

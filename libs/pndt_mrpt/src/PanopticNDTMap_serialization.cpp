@@ -1,7 +1,9 @@
 // Versioned MRPT serialisation of PanopticNDTMap. Every voxel field is written
 // raw, so a round trip is bit-exact.
 //
-// Version 4 (written): version 3 with the map options occupied_threshold (f32),
+// Version 5 (written): version 4 with the map option max_range_along (u8: 0 z,
+// 1 ray length) right after fragment_joint_factor.
+// Version 4 (read): version 3 with the map options occupied_threshold (f32),
 // reset_freed_voxels (bool), miss_accumulation (u8), instance_class_voxels (u8),
 // semantic_eviction (bool), void_bin (bool), fragment_min_mask_pixels (u32),
 // fragment_cover_share (f64) and fragment_joint_factor (f64) after
@@ -64,6 +66,7 @@ void writeOptions(CArchive& a, const MapOptions& o)
     a << o.occupied_threshold << o.reset_freed_voxels << uint8_t(o.miss_accumulation)
       << uint8_t(o.instance_class_voxels) << o.semantic_eviction << o.void_bin << o.fragment_min_mask_pixels
       << o.fragment_cover_share << o.fragment_joint_factor;
+    a << uint8_t(o.max_range_along == RangeKind::Ray ? 1 : 0);
 }
 
 MapOptions readOptions(CArchive& a, uint8_t version)
@@ -106,6 +109,13 @@ MapOptions readOptions(CArchive& a, uint8_t version)
                                                  misses, class_voxels));
         o.miss_accumulation = MissAccumulation(misses);
         o.instance_class_voxels = InstanceClassVoxels(class_voxels);
+    }
+    if (version >= 5)
+    {
+        uint8_t along = 0;
+        a >> along;
+        if (along > 1) throw std::runtime_error(fmt::format("unknown max_range_along {}", along));
+        o.max_range_along = along ? RangeKind::Ray : RangeKind::Z;
     }
     o.validate();
     return o;
@@ -155,7 +165,7 @@ uint64_t readCount(CArchive& a, const char* what, uint64_t max)
 }
 }  // namespace
 
-uint8_t PanopticNDTMap::serializeGetVersion() const { return 4; }
+uint8_t PanopticNDTMap::serializeGetVersion() const { return 5; }
 
 void PanopticNDTMap::serializeTo(CArchive& out) const
 {
@@ -309,6 +319,7 @@ void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
         case 2:
         case 3:
         case 4:
+        case 5:
         {
             const char* stage = "header";
             try

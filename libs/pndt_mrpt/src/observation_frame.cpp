@@ -13,10 +13,12 @@ std::string describeObservation(const mrpt::obs::CObservation& obs)
     return fmt::format("'{}' @ {:.6f}", obs.sensorLabel, mrpt::Clock::toDouble(obs.timestamp));
 }
 
-void depthFrameFrom(const mrpt::obs::CObservation3DRangeScan& obs, PanopticFrame& out)
+namespace
+{
+/// Intrinsics of the scan's range image, checked (InputError naming the scan).
+CameraIntrinsics rangeIntrinsics(const mrpt::obs::CObservation3DRangeScan& obs, const std::string& who)
 {
     obs.load();  // externally stored range images
-    const std::string who = describeObservation(obs);
     if (!obs.hasRangeImage) throw InputError(who + ": range scan without a range image");
     const int H = int(obs.rangeImage.rows()), W = int(obs.rangeImage.cols());
     const auto& cam = obs.cameraParams;
@@ -33,6 +35,30 @@ void depthFrameFrom(const mrpt::obs::CObservation3DRangeScan& obs, PanopticFrame
         throw InputError(fmt::format("{}: range image is {}x{} but its camera model is {}x{}", who, W, H, cam.ncols,
                                      cam.nrows));
     if (!(obs.rangeUnits > 0)) throw InputError(fmt::format("{}: rangeUnits must be positive", who));
+    return K;
+}
+}  // namespace
+
+FrameView frameViewOf(const mrpt::obs::CObservation3DRangeScan& obs, std::string& source)
+{
+    source = describeObservation(obs);
+    FrameView v;
+    v.K = rangeIntrinsics(obs, source);
+    v.source = source;
+    const int W = v.K.width, H = v.K.height;
+    // MRPT's matrices are row-major; the stride is measured, not assumed.
+    const uint16_t* first = &obs.rangeImage(0, 0);
+    const size_t stride = H > 1 ? size_t(&obs.rangeImage(1, 0) - first) : size_t(W);
+    v.depth = DepthView::units(first, W, H, double(obs.rangeUnits), stride,
+                               obs.range_is_depth ? RangeKind::Z : RangeKind::Ray);
+    return v;
+}
+
+void depthFrameFrom(const mrpt::obs::CObservation3DRangeScan& obs, PanopticFrame& out)
+{
+    const std::string who = describeObservation(obs);
+    const CameraIntrinsics K = rangeIntrinsics(obs, who);
+    const int H = K.height, W = K.width;
     out.K = K;
     out.source = who;
     out.depth.resize(W, H, 0.f);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <pndt/class_set.h>
+#include <pndt/types.h>
 
 #include <cstdint>
 #include <string>
@@ -37,7 +38,11 @@ struct MapOptions
 {
     // --- geometry
     double voxel_size = 0.10;     ///< metres
-    double max_range = 10.0;      ///< depth beyond this is skipped and counted
+    double max_range = 10.0;      ///< metres; pixels beyond are skipped and counted
+    /// What max_range limits: the depth z (default, the paper's) or the length of the
+    /// pixel's ray (a sensor's range spec); at the image corners of a 640x480 Kinect
+    /// the ray is 1.12 z.
+    RangeKind max_range_along = RangeKind::Z;
     bool use_ndt = true;          ///< false = the "w/o NDT" cube-voxel ablation
     RayMode ray_mode = RayMode::Merged;
 

@@ -89,6 +89,7 @@ struct PointLabel
 
 struct RayWorker;      // integrate()'s per-thread free-space scratch
 struct MaskFootprint;  // a voxel's back-projection into the image
+struct FramePixels;    // a frame as the stages read it (contiguous, float metres along z)
 
 class PanopticMap
 {
@@ -108,6 +109,9 @@ class PanopticMap
     /// coordinates to the world. Throws InputError (naming frame.source) for
     /// size mismatches or class ids outside the class set.
     FrameStats integrate(const PanopticFrame& frame, const Pose& T_world_cam);
+    /// The same over the caller's buffers (uint16 or float depth, z or ray length,
+    /// strided rows): nothing is copied that can be read in place (frame.h).
+    FrameStats integrate(const FrameView& frame, const Pose& T_world_cam);
 
     // ---- queries (propagate labels lazily first)
     void render(const Pose& T_world_cam, const CameraIntrinsics& K, RenderedView& out) const;
@@ -208,29 +212,29 @@ class PanopticMap
     struct Scratch;
     struct Propagation;
 
-    void validateFrame(const PanopticFrame& f) const;
+    void validateClasses(const FramePixels& f) const;
     Scratch& scratch();
-    void projectPixels(const PanopticFrame& f, const Pose& T, FrameStats& st);
-    void projectBand(const PanopticFrame& f, const Pose& T, int band, int bands);
+    void projectPixels(const FramePixels& f, const Pose& T, FrameStats& st);
+    void projectBand(const FramePixels& f, const Pose& T, int band, int bands);
     void updateShapes(FrameStats& st);
     void updateOccupancy(const Pose& T, FrameStats& st);
     void castRays(const Eigen::Vector3d& origin, size_t first_ray, size_t end_ray, RayWorker& worker);
     void applyMisses(FrameStats& st);
-    void matchInstances(const PanopticFrame& f, const Pose& T, FrameStats& st);
-    void predictedBand(const PanopticFrame& f, int band, int bands);
+    void matchInstances(const FramePixels& f, const Pose& T, FrameStats& st);
+    void predictedBand(const FramePixels& f, int band, int bands);
     /// vtou of one voxel: where it lies in the image.
     MaskFootprint maskFootprint(uint32_t voxel, const Pose& T_cam_world, const CameraIntrinsics& K) const;
     /// Calls visit(pixel index, predicted index or -1) for each pixel of the
     /// footprint in image rows [row_begin, row_end) that passes the depth test.
     template <class Visit>
-    void forEachFootprintPixel(const MaskFootprint& fp, int row_begin, int row_end, const PanopticFrame& f,
+    void forEachFootprintPixel(const MaskFootprint& fp, int row_begin, int row_end, const FramePixels& f,
                                Visit&& visit);
     void classifyMapInstances();
     void collectFragmentEvidence();
     void mergeFragments(FrameStats& st);
-    void splitMergedPredictions(const PanopticFrame& f, FrameStats& st);
-    void updateHistograms(const PanopticFrame& f, FrameStats& st);
-    void histogramTask(const PanopticFrame& f, int task);
+    void splitMergedPredictions(const FramePixels& f, FrameStats& st);
+    void updateHistograms(const FramePixels& f, FrameStats& st);
+    void histogramTask(const FramePixels& f, int task);
     void resetVoxelContents(Voxel& v);
     void invalidate() { propagated_valid_ = false; }
     void ensurePropagated() const;

@@ -71,6 +71,15 @@ struct CameraIntrinsics
     }
 };
 
+/// What a depth value measures: the distance along the optical axis (z: OpenNI2,
+/// Kinect, RealSense, TUM, Redwood) or along the pixel's ray from the camera centre
+/// (range: some time-of-flight cameras, simulators, MRPT scans with range_is_depth = false).
+enum class RangeKind
+{
+    Z,
+    Ray,
+};
+
 /// Rigid transform; `T_a_b` maps points from frame b into frame a.
 using Pose = Eigen::Isometry3d;
 

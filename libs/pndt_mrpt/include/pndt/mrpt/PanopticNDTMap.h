@@ -85,6 +85,9 @@ class PanopticNDTMap : public mrpt::maps::CMetricMap
 
     /// Integrates one already-assembled frame (bypassing observation pairing).
     FrameStats integrate(const PanopticFrame& frame, const Pose& T_world_cam);
+    /// The same over the caller's buffers, e.g. frameViewOf(scan) for a range scan's
+    /// uint16 image read in place (pndt/frame.h).
+    FrameStats integrate(const FrameView& frame, const Pose& T_world_cam);
 
     // CMetricMap
     bool isEmpty() const override;

@@ -18,6 +18,12 @@ std::string describeObservation(const mrpt::obs::CObservation& obs);
 /// Throws InputError if the scan has no range image or invalid intrinsics.
 void depthFrameFrom(const mrpt::obs::CObservation3DRangeScan& obs, PanopticFrame& out);
 
+/// A view of the scan's uint16 range image as it is stored (rangeUnits metres per
+/// unit; z or, with range_is_depth = false, ray length): nothing is copied. The
+/// scan (and `source`, which receives describeObservation()) must outlive the view's
+/// use. Throws InputError like depthFrameFrom.
+FrameView frameViewOf(const mrpt::obs::CObservation3DRangeScan& obs, std::string& source);
+
 /// Decodes the two float32 "id + score" images of design §5 into the frame's
 /// label images. Throws InputError naming the observation when an image is not
 /// single-channel float, differs in size from the depth, or holds negative or
