@@ -3,6 +3,7 @@
 
 #include <pndt/frame.h>
 
+#include <string>
 #include <vector>
 
 namespace pndt::bench
@@ -19,4 +20,9 @@ struct BenchFrames
 /// a wrong class, an instance splits in two, each with that probability per
 /// frame) and per-pixel scores in [0.5, 1].
 BenchFrames makeRoomFrames(int n, int width, int height, double max_range, double noise = 0.0);
+/// `n` frames spread over a recording folder (Redwood or TUM layout, real depth
+/// and poses), depth beyond `max_range` dropped, with synthetic labels: a 6x6 grid
+/// of segments (wall, floor, 24 things with new ids every frame), `noise` as above.
+/// Throws naming the folder if it cannot be read or has no posed frame.
+BenchFrames makeRecordingFrames(const std::string& folder, int n, double max_range, double noise = 0.0);
 }  // namespace pndt::bench

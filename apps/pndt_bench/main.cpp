@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <thread>
 #ifdef __linux__
@@ -368,6 +369,15 @@ Agreement occupancyAgreement(const PanopticMap& a, const PanopticMap& b)
     return {both, both - same};
 }
 
+/// p50 / p99 / max of per-frame times, in ms.
+std::string latencyText(std::vector<double> seconds)
+{
+    if (seconds.empty()) return "no frames";
+    std::sort(seconds.begin(), seconds.end());
+    const auto at = [&](double q) { return 1e3 * seconds[std::min(seconds.size() - 1, size_t(q * double(seconds.size())))]; };
+    return fmt::format("p50 {:.2f} ms, p99 {:.2f} ms, max {:.2f} ms", at(0.5), at(0.99), 1e3 * seconds.back());
+}
+
 struct Summary
 {
     std::string res;
@@ -388,7 +398,7 @@ int main(int argc, char** argv)
     std::vector<std::string> resolutions = {"640x480", "1024x768"};
     std::vector<int> threads = {1, 0};
     bool no_octomap_default = false, no_mrpt = false, only_panoptic = false, ablations = false, pin = false;
-    std::string markdown, stat = "median";
+    std::string markdown, stat = "median", recording;
     app.add_option("-n,--frames", frames, "frames per run")->capture_default_str();
     app.add_option("--repeat", repeat, "runs per measurement (the thread counts' runs alternate; --stat picks the one reported)")->capture_default_str();
     app.add_option("--threads", threads, "thread counts for PanopticNDT (0 = all cores); the first is the reference")
@@ -398,6 +408,9 @@ int main(int argc, char** argv)
     app.add_option("--mrpt-frames", mrpt_frames, "frames for MRPT's (slow) COctoMap")->capture_default_str();
     app.add_option("--voxel", voxels, "voxel sizes (m)")->capture_default_str();
     app.add_option("--resolution", resolutions, "WxH")->capture_default_str();
+    app.add_option("--recording", recording,
+                   "also (without --resolution: only) real depth and poses from this Redwood / TUM folder, "
+                   "frames spread over it, with grid labels (wall, floor, 24 things, new ids every frame)");
     app.add_flag("--skip-octomap-default", no_octomap_default, "skip OctoMap's default insert (slow)");
     app.add_flag("--skip-mrpt", no_mrpt, "skip MRPT's COctoMap (slow)");
     app.add_flag("--only-panoptic", only_panoptic, "PanopticNDT only (for profiling)");
@@ -443,12 +456,29 @@ int main(int argc, char** argv)
     fmt::print("parallel ceiling now ({} threads vs 1): {}\n", all, ceiling_before.text());
 
     std::vector<Summary> summaries;
-    for (const std::string& res : resolutions)
+    std::vector<std::string> inputs = resolutions;
+    if (!recording.empty()) inputs = app.count("--resolution") ? resolutions : std::vector<std::string>{};
+    if (!recording.empty()) inputs.push_back("recording");
+    for (const std::string& input : inputs)
     {
         int w = 0, h = 0;
-        if (std::sscanf(res.c_str(), "%dx%d", &w, &h) != 2) return fmt::print(stderr, "bad resolution {}\n", res), 1;
-        const double max_range = w >= 1024 ? 20.0 : 10.0;
-        const auto b = bench::makeRoomFrames(frames, w, h, max_range, label_noise);
+        bench::BenchFrames b;
+        std::string res = input;
+        double max_range = 10.0;
+        if (input == "recording")
+        {
+            b = bench::makeRecordingFrames(recording, frames, max_range, label_noise);
+            w = b.frames.front().K.width;
+            h = b.frames.front().K.height;
+            res = fmt::format("{}x{} real depth ({})", w, h, std::filesystem::path(recording).filename().string());
+        }
+        else
+        {
+            if (std::sscanf(res.c_str(), "%dx%d", &w, &h) != 2)
+                return fmt::print(stderr, "bad resolution {}\n", res), 1;
+            max_range = w >= 1024 ? 20.0 : 10.0;
+            b = bench::makeRoomFrames(frames, w, h, max_range, label_noise);
+        }
         const double n = double(b.frames.size());
         for (double v : voxels)
         {
@@ -477,6 +507,7 @@ int main(int argc, char** argv)
                     ms * st.seconds_ndt, ms * st.seconds_matching, ms * st.seconds_histograms, 1e3 * r.propagation,
                     st.rays / b.frames.size(), double(st.ray_steps) / n, st.hit_voxels / b.frames.size());
                 fmt::print("    {}\n", m.others(b.frames.size()));
+                fmt::print("    frame latency (this run): {}\n", latencyText(r.frame_seconds));
                 const auto& mu = r.mem;
                 const double vox = double(std::max<size_t>(1, r.voxels));
                 fmt::print(
