@@ -8,6 +8,7 @@
 #include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/system/datetime.h>
 #include <pndt/app/layered_config.h>
+#include <pndt/app/map_rawlog.h>
 #include <pndt/app/map_outputs.h>
 #include <pndt/app/observation_stream.h>
 #include <pndt/app/pose_track.h>
@@ -123,6 +124,10 @@ int main(int argc, char** argv)
     app.add_option("--voxel-size", voxel_size, "voxel size in metres");
     app.add_option("--max-frames", max_frames, "stop after this many mapped frames (0 = all)");
     app.add_flag("--no-progress", no_progress, "no progress bar");
+    bool no_maps_rawlog = false, rawlog_inputs = false;
+    app.add_flag("--no-maps-rawlog", no_maps_rawlog, "do not write maps.rawlog (config maps_rawlog)");
+    app.add_flag("--rawlog-inputs", rawlog_inputs,
+                 "interleave the input observations with the maps in maps.rawlog (config maps_rawlog_inputs)");
     app.add_option("--screenshot", screenshot, "PNG of the final map's 3D view, rendered off-screen");
     app.add_option("--mesh-screenshot", mesh_screenshot,
                    "PNG of the final map's voxel surfaces (exposed faces only), rendered off-screen");
@@ -141,6 +146,8 @@ int main(int argc, char** argv)
         if (!poses.empty()) sets.insert(sets.begin(), {"pndt-map.pose_source=file", "pndt-map.pose_file=" + poses});
         if (!pose_format.empty()) sets.push_back("pndt-map.pose_format=" + pose_format);
         if (period >= 0) sets.push_back(fmt::format("pndt-map.period={}", period));
+        if (no_maps_rawlog) sets.push_back("pndt-map.maps_rawlog=false");
+        if (rawlog_inputs) sets.push_back("pndt-map.maps_rawlog_inputs=true");
         if (voxel_size > 0) sets.push_back(fmt::format("MAP_PanopticNDTMap_00_creationOpts.voxel_size={}", voxel_size));
         const auto cfg = loadLayeredConfig(files, sets);
         std::vector<std::string> sections;
@@ -253,6 +260,7 @@ int main(int argc, char** argv)
             auto& in = *stream;
             const auto obs = in.next();
             if (!obs) break;
+            if (settings.maps_rawlog_inputs && maps.rawlog()) maps.rawlog()->addInput(obs);
             if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(obs))
             {
                 if (!scan->hasRangeImage) continue;
@@ -336,6 +344,9 @@ int main(int argc, char** argv)
         fmt::print("maps written       : {} in {} (index.json); {:.2f} s of mapping time finalising (files are "
                    "written beside mapping)\n",
                    maps.index().size(), out_dir, maps.secondsWriting());
+        if (const MapRawlogWriter* r = maps.rawlog())
+            fmt::print("maps.rawlog        : {} maps + {} input observations, {:.1f} MB, {:.2f} s on its writer thread\n",
+                       r->mapsWritten(), r->inputsWritten(), r->bytesWritten() / 1e6, r->secondsWriting());
         fmt::print("final map          : {}\n", final_map->asString());
         fmt::print("memory             : map {:.1f} MB, peak RSS {:.1f} MB\n", core.memoryBytes() / 1e6,
                    peakRssBytes() / 1e6);

@@ -27,6 +27,9 @@ MapperSettings MapperSettings::load(const mrpt::config::CConfigFileBase& cfg)
     c.read("pose_max_gap", s.pose_max_gap);
     c.read("camera_pose", camera);
     c.read("rgbd_label", s.rgbd_label);
+    c.read("maps_rawlog", s.short_term.write_rawlog);
+    c.read("maps_rawlog_label", s.short_term.rawlog_label);
+    c.read("maps_rawlog_inputs", s.maps_rawlog_inputs);
     c.rejectUnknownKeys();
     const auto bad = [](const std::string& key, const std::string& v, const char* what) {
         return std::invalid_argument(fmt::format("config [pndt-map] key '{}': '{}' {}", key, v, what));

@@ -21,6 +21,7 @@ struct MapperSettings
     double pose_max_gap = 0.1;           ///< seconds
     std::optional<mrpt::poses::CPose3D> camera_pose;  ///< robot -> camera; empty = scans' sensorPose
     std::string rgbd_label;              ///< only this range-scan sensor; empty = all
+    bool maps_rawlog_inputs = false;     ///< interleave the input observations into maps.rawlog
 
     /// Reads [pndt-map]; unknown keys and bad values are errors naming them.
     static MapperSettings load(const mrpt::config::CConfigFileBase& cfg);

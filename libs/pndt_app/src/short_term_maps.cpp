@@ -1,5 +1,6 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
+#include <pndt/app/map_rawlog.h>
 #include <pndt/app/short_term_maps.h>
 #include <pndt/mrpt/map_files.h>
 #include <tsl/robin_map.h>
@@ -16,6 +17,9 @@ ShortTermMaps::ShortTermMaps(Factory make_map, ShortTermOptions options)
     if (options_.period < 0) throw std::invalid_argument("short-term map period must be >= 0");
     if (options_.warmup < 0 || options_.warmup >= 1) throw std::invalid_argument("warm-up must be in [0, 1)");
     if (options_.write_files) std::filesystem::create_directories(options_.out_dir);
+    if (options_.write_files && options_.write_rawlog)
+        rawlog_ = std::make_unique<MapRawlogWriter>(MapRawlogOptions{
+            (std::filesystem::path(options_.out_dir) / "maps.rawlog").string(), options_.rawlog_label});
 }
 
 ShortTermMaps::~ShortTermMaps()
@@ -64,6 +68,7 @@ void ShortTermMaps::integrate(const PanopticFrame& f, const Pose& T, double t)
         feed(next_, f, T, t);
     }
     ++frames_;
+    if (rawlog_) rawlog_->mappedUpTo(t);  // interleaved inputs up to t may be written
 }
 
 void ShortTermMaps::startSuccessor(double t)
@@ -81,6 +86,7 @@ void ShortTermMaps::finish()
     finished_ = true;
     if (current_.map) write(current_);
     waitForWriter();
+    if (rawlog_) rawlog_->finish();
 }
 
 void ShortTermMaps::write(const Slot& s)
@@ -99,6 +105,7 @@ void ShortTermMaps::write(const Slot& s)
     e.instances = s.map->core().instances().size();
     const std::string ply = fmt::format("{}_{:04d}.ply", options_.prefix, index_.size());
     index_.push_back(e);
+    if (rawlog_) rawlog_->addMap(s.map, s.t_start, s.t_end, s.frames, uint32_t(index_.size() - 1));
     if (options_.write_files)
     {
         waitForWriter();  // one map at a time, so index.json only ever grows

@@ -9,6 +9,7 @@
 
 #include <functional>
 #include <future>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,10 @@ struct ShortTermOptions
     std::string prefix = "map";
     bool write_ply = false;
     bool write_files = true;        ///< false: keep maps in memory only (tests, live use)
+    /// Also append each map, as a pndt::CObservationPanopticMap stamped with its last
+    /// frame's time, to <out_dir>/maps.rawlog (map_rawlog.h; needs write_files).
+    bool write_rawlog = false;
+    std::string rawlog_label = "PANOPTIC_MAP";  ///< sensorLabel of the maps in maps.rawlog
 };
 
 /// One written map, as listed in index.json.
@@ -34,6 +39,8 @@ struct MapIndexEntry
     uint64_t frames = 0;
     size_t voxels = 0, instances = 0;
 };
+
+class MapRawlogWriter;
 
 class ShortTermMaps
 {
@@ -62,6 +69,9 @@ class ShortTermMaps
     /// waiting for the previous write (the writing itself runs beside mapping).
     double secondsWriting() const { return seconds_writing_; }
     uint64_t framesSeen() const { return frames_; }
+    /// The maps.rawlog writer (write_rawlog), e.g. to interleave input observations
+    /// with addInput(); nullptr when off.
+    MapRawlogWriter* rawlog() const { return rawlog_.get(); }
 
     /// Maps the successor's instance ids to its predecessor's by voxel overlap:
     /// a successor instance takes the predecessor instance that holds most of its
@@ -93,6 +103,7 @@ class ShortTermMaps
     FrameStats totals_;
     double seconds_writing_ = 0;
     std::future<void> writer_;  ///< the map being written, if any
+    std::unique_ptr<MapRawlogWriter> rawlog_;  ///< maps.rawlog, its own writer thread
 };
 
 }  // namespace pndt::app

@@ -1,0 +1,86 @@
+// maps.rawlog: the stream of short-term maps as an MRPT rawlog (issue #21), one
+// pndt::CObservationPanopticMap per handed-over map, optionally interleaved with
+// the input observations, for MRPT's rawlog tools (rawlog-edit -p, RawLogViewer -l).
+//
+// Everything is serialised and compressed on the writer's own thread; the caller
+// only queues shared pointers. Each object is followed by a zlib sync flush, so
+// the file on disk is always a valid rawlog up to its last complete object: a
+// crash leaves a truncated file whose complete objects MRPT reads back.
+#pragma once
+
+#include <mrpt/obs/CObservation.h>
+#include <pndt/mrpt/PanopticNDTMap.h>
+
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <exception>
+#include <mutex>
+#include <string>
+#include <thread>
+
+namespace pndt::app
+{
+struct MapRawlogOptions
+{
+    std::string path;                         ///< written from scratch (truncated if it exists)
+    std::string sensor_label = "PANOPTIC_MAP";
+    int compression = 1;                      ///< gzip level 0..9 (1: fastest, as MRPT's default)
+    /// Input observations held back until mapping passes their time; beyond this
+    /// many the oldest is written anyway (memory stays bounded if frames are not mapped).
+    size_t max_held_inputs = 64;
+    /// Objects queued for the writer thread before addInput()/addMap() wait (back-pressure).
+    size_t max_queued = 32;
+};
+
+class MapRawlogWriter
+{
+   public:
+    /// Creates (truncates) the file. Throws io::WriteError naming it.
+    explicit MapRawlogWriter(MapRawlogOptions options);
+    /// Writes what is queued and held, swallowing errors (call finish() to see them).
+    ~MapRawlogWriter();
+    MapRawlogWriter(const MapRawlogWriter&) = delete;
+    MapRawlogWriter& operator=(const MapRawlogWriter&) = delete;
+
+    /// An input observation (interleaving): written once mapping has passed its
+    /// timestamp (mappedUpTo) or a later map is added, so the file stays in time order.
+    void addInput(const mrpt::obs::CObservation::Ptr& obs);
+    /// Mapping has integrated every frame up to sensor time `t` (seconds).
+    void mappedUpTo(double t);
+    /// A handed-over (finalised, no longer modified) map: stamp = `t_end`, its last
+    /// frame's time. Written after the held inputs up to that time.
+    void addMap(const PanopticNDTMap::Ptr& map, double t_start, double t_end, uint64_t frames, uint32_t sequence);
+    /// Writes everything still held or queued, closes the file and rethrows the
+    /// writer thread's error (io::WriteError). Idempotent.
+    void finish();
+
+    const std::string& path() const { return options_.path; }
+    uint64_t mapsWritten() const;
+    uint64_t inputsWritten() const;
+    /// Compressed bytes on disk so far.
+    uint64_t bytesWritten() const;
+    /// Seconds the writer thread spent serialising, compressing and flushing.
+    double secondsWriting() const;
+
+   private:
+    void release(double t);
+    void enqueue(mrpt::serialization::CSerializable::Ptr obj, bool is_map);
+    void run();
+    void rethrowError();
+
+    MapRawlogOptions options_;
+    void* gz_ = nullptr;  ///< gzFile, opaque to keep zlib.h out of the header
+    std::deque<mrpt::obs::CObservation::Ptr> held_;  ///< inputs not yet passed by mapping (caller's thread)
+
+    mutable std::mutex mutex_;
+    std::condition_variable cv_;
+    std::deque<std::pair<mrpt::serialization::CSerializable::Ptr, bool>> queue_;  ///< object, is a map
+    bool closing_ = false, busy_ = false, finished_ = false;
+    std::exception_ptr error_;
+    uint64_t maps_ = 0, inputs_ = 0, bytes_ = 0;
+    double seconds_ = 0;
+    std::thread thread_;
+};
+
+}  // namespace pndt::app

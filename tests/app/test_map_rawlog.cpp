@@ -1,0 +1,280 @@
+// maps.rawlog (issue #21): the writer keeps time order when interleaving input
+// observations, a truncated file (a crash) reads back its complete objects with
+// MRPT's own reader and rawlog-edit, ShortTermMaps appends one observation per
+// map, and pndt-map's output is listed and cut by the stock rawlog-edit.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/obs/CObservationRobotPose.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/system/datetime.h>
+#include <nlohmann/json.hpp>
+#include <pndt/app/map_rawlog.h>
+#include <pndt/app/short_term_maps.h>
+#include <pndt/mrpt/CObservationPanopticMap.h>
+
+#include <chrono>
+#include <fstream>
+#include <thread>
+
+#include "cli_fixture.h"
+
+using namespace pndt;
+using namespace pndt::app;
+namespace fs = std::filesystem;
+
+namespace
+{
+/// What MRPT's reader gets out of a rawlog: every complete object, in order.
+std::vector<mrpt::obs::CObservation::Ptr> readAll(const std::string& file)
+{
+    std::vector<mrpt::obs::CObservation::Ptr> out;
+    mrpt::io::CFileGZInputStream f(file);
+    auto a = mrpt::serialization::archiveFrom(f);
+    for (;;)
+    {
+        try
+        {
+            mrpt::serialization::CSerializable::Ptr o;
+            a >> o;
+            out.push_back(std::dynamic_pointer_cast<mrpt::obs::CObservation>(o));
+        }
+        catch (...)  // end of the file, or the cut-off object
+        {
+            break;
+        }
+    }
+    return out;
+}
+
+mrpt::obs::CObservation::Ptr poseAt(double t)
+{
+    auto p = mrpt::obs::CObservationRobotPose::Create();
+    p->sensorLabel = "GT_POSE";
+    p->timestamp = mrpt::Clock::fromDouble(t);
+    p->pose.mean = mrpt::poses::CPose3D(t, 0, 0, 0, 0, 0);
+    return p;
+}
+
+/// A map of the first `frames` frames of the room orbit.
+PanopticNDTMap::Ptr smallMap(int frames)
+{
+    const cli::Room room(frames);
+    std::mt19937 rng(1);
+    auto m = PanopticNDTMap::Create();
+    for (int i = 0; i < frames; ++i) m->integrate(room.frame(i, rng), room.poses[size_t(i)]);
+    m->flushPending();
+    m->core().finalize();
+    return m;
+}
+
+void waitWritten(const MapRawlogWriter& w, uint64_t n)
+{
+    for (int i = 0; i < 2000 && w.mapsWritten() + w.inputsWritten() < n; ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    ASSERT_EQ(w.mapsWritten() + w.inputsWritten(), n);
+}
+
+std::string pluginArg() { return std::string(" -p ") + PNDT_PLUGIN_PATH; }
+}  // namespace
+
+TEST(MapRawlog, InterleavedInputsAndMapsAreInTimeOrder)
+{
+    const fs::path dir = cli::tempDir("rawlog_order");
+    const std::string file = (dir / "maps.rawlog").string();
+    const auto m1 = smallMap(2), m2 = smallMap(3);
+    {
+        MapRawlogWriter w({file, "MY_MAPS"});
+        // Mapping lags the reading: inputs up to t=4 are read before the frame at 2
+        // is mapped; map 0 (last frame 2) is handed over when frame 3 arrives.
+        for (int i = 0; i <= 4; ++i) w.addInput(poseAt(i));
+        w.mappedUpTo(2);
+        w.addMap(m1, 0, 2, 3, 0);
+        w.mappedUpTo(3);
+        for (int i = 5; i <= 7; ++i) w.addInput(poseAt(i));
+        w.addMap(m2, 3, 6, 4, 1);  // hand-over: releases the inputs up to 6 first
+        w.finish();
+        EXPECT_EQ(w.mapsWritten(), 2u);
+        EXPECT_EQ(w.inputsWritten(), 8u);
+        EXPECT_EQ(uint64_t(fs::file_size(file)), w.bytesWritten());
+    }
+    const auto objs = readAll(file);
+    ASSERT_EQ(objs.size(), 10u);
+    std::vector<std::string> order;
+    double last = -1;
+    for (const auto& o : objs)
+    {
+        const double t = mrpt::Clock::toDouble(o->timestamp);
+        EXPECT_GE(t, last);
+        last = t;
+        const auto map = std::dynamic_pointer_cast<CObservationPanopticMap>(o);
+        order.push_back(map ? "M" + std::to_string(map->sequence) : std::to_string(int(t)));
+        if (map) EXPECT_EQ(map->sensorLabel, "MY_MAPS");
+    }
+    EXPECT_EQ(order, (std::vector<std::string>{"0", "1", "2", "M0", "3", "4", "5", "6", "M1", "7"}));
+    const auto back = std::dynamic_pointer_cast<CObservationPanopticMap>(objs[8]);
+    EXPECT_EQ(back->map->core().voxels().size(), m2->core().voxels().size());
+    EXPECT_EQ(back->map->core().instances().size(), m2->core().instances().size());
+    EXPECT_EQ(back->frames, 4u);
+    EXPECT_DOUBLE_EQ(mrpt::Clock::toDouble(back->start), 3.0);
+    fs::remove_all(dir);
+}
+
+TEST(MapRawlog, ACrashLeavesAReadablePrefixOfCompleteObjects)
+{
+    const fs::path dir = cli::tempDir("rawlog_crash");
+    const std::string file = (dir / "maps.rawlog").string();
+    const auto m = smallMap(3);
+    // Compressed size after each complete object (the writer flushes after each).
+    std::vector<uint64_t> ends;
+    std::vector<double> stamps;
+    MapRawlogWriter w({file});
+    for (int k = 0; k < 3; ++k)
+    {
+        w.addInput(poseAt(10.0 * k));
+        w.mappedUpTo(10.0 * k);
+        waitWritten(w, ends.size() + 1);
+        ends.push_back(w.bytesWritten());
+        stamps.push_back(10.0 * k);
+        w.addMap(m, 10.0 * k, 10.0 * k + 5, 3, uint32_t(k));
+        waitWritten(w, ends.size() + 1);
+        ends.push_back(w.bytesWritten());
+        stamps.push_back(10.0 * k + 5);
+    }
+    // The file as a crash would leave it: no gzip trailer, and cut at any byte.
+    const std::string image = [&] {
+        std::ifstream f(file, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(f), {});
+    }();
+    ASSERT_EQ(image.size(), ends.back());
+    const auto truncated = [&](uint64_t bytes) {
+        const std::string t = (dir / "cut.rawlog").string();
+        std::ofstream(t, std::ios::binary).write(image.data(), std::streamsize(bytes));
+        return t;
+    };
+    for (size_t k = 0; k < ends.size(); ++k)
+    {
+        const uint64_t before = k == 0 ? 0 : ends[k - 1];
+        // Cut inside object k (its first byte, its middle): objects 0..k-1 read back.
+        // (Not just short of its end: the last bytes are the flush marker, after the data.)
+        for (const uint64_t cut : {before + 1, before + (ends[k] - before) / 2})
+        {
+            const auto objs = readAll(truncated(cut));
+            ASSERT_EQ(objs.size(), k) << "cut at byte " << cut;
+            for (size_t i = 0; i < k; ++i) EXPECT_DOUBLE_EQ(mrpt::Clock::toDouble(objs[i]->timestamp), stamps[i]);
+        }
+        // Cut right after it: k + 1 objects, the last a whole map when it is one.
+        const auto objs = readAll(truncated(ends[k]));
+        ASSERT_EQ(objs.size(), k + 1);
+        if (const auto map = std::dynamic_pointer_cast<CObservationPanopticMap>(objs.back()))
+            EXPECT_EQ(map->map->core().voxels().size(), m->core().voxels().size());
+    }
+    // The stock tool on a file cut inside the last map: 5 of the 6 objects.
+    const std::string info = cli::run("rawlog-edit" + pluginArg() + " --info -i " +
+                                      truncated(ends[4] + (ends[5] - ends[4]) / 2)).out;
+    EXPECT_NE(info.find("Overall number of objects         : 5"), std::string::npos) << info;
+    w.finish();
+    EXPECT_EQ(readAll(file).size(), 6u);
+    fs::remove_all(dir);
+}
+
+TEST(MapRawlog, ShortTermMapsAppendOneObservationPerMapStampedWithItsLastFrame)
+{
+    const fs::path dir = cli::tempDir("rawlog_stm");
+    const cli::Room room(12);
+    std::mt19937 rng(3);
+    ShortTermOptions o;
+    o.period = 4;
+    o.period_in_frames = true;
+    o.out_dir = dir.string();
+    o.write_rawlog = true;
+    {
+        ShortTermMaps maps([] { return PanopticNDTMap::Create(); }, o);
+        for (int i = 0; i < 12; ++i) maps.integrate(room.frame(i, rng), room.poses[size_t(i)], cli::stampOf(i));
+        maps.finish();
+        const auto objs = readAll((dir / "maps.rawlog").string());
+        ASSERT_EQ(objs.size(), maps.index().size());
+        ASSERT_EQ(objs.size(), 3u);
+        for (size_t k = 0; k < objs.size(); ++k)
+        {
+            const auto m = std::dynamic_pointer_cast<CObservationPanopticMap>(objs[k]);
+            ASSERT_TRUE(m && m->map);
+            const MapIndexEntry& e = maps.index()[k];
+            EXPECT_EQ(m->sensorLabel, "PANOPTIC_MAP");
+            EXPECT_DOUBLE_EQ(mrpt::Clock::toDouble(m->timestamp), e.t_end);
+            EXPECT_DOUBLE_EQ(mrpt::Clock::toDouble(m->start), e.t_start);
+            EXPECT_EQ(m->frames, e.frames);
+            EXPECT_EQ(m->sequence, k);
+            EXPECT_EQ(m->map->core().voxels().size(), e.voxels);
+            EXPECT_EQ(m->map->core().instances().size(), e.instances);
+        }
+    }
+    fs::remove_all(dir);
+}
+
+TEST(MapRawlog, PndtMapOutputIsListedAndCutByTheStockRawlogEdit)
+{
+    const fs::path dir = cli::tempDir("rawlog_cli");
+    const std::string input = (dir / "room.rawlog").string();
+    cli::Room(24).writeRawlog(input, 24);  // 3 s at 8 frames/s from t = 1000
+    const fs::path out = dir / "out";
+    // Maps every second, interleaved with the input observations.
+    auto r = cli::run(cli::mapExe() + input + " -o " + out.string() + " --period 1 --rawlog-inputs");
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("maps.rawlog        : 3 maps + "), std::string::npos) << r.out;
+    std::ifstream jf(out / "index.json");
+    const auto index = nlohmann::json::parse(jf);
+    ASSERT_EQ(index.size(), 3u);
+
+    const std::string txt = (dir / "ts.txt").string();
+    r = cli::run("rawlog-edit" + pluginArg() + " --list-timestamps -i " + (out / "maps.rawlog").string() +
+                 " --text-file-output " + txt);
+    std::ifstream f(txt);
+    double t, last = 0;
+    std::string label, cls;
+    std::vector<double> map_stamps;
+    size_t inputs = 0;
+    while (f >> t >> label >> cls)
+    {
+        EXPECT_GE(t, last);  // one time line: --cut can stop at the first later object
+        last = t;
+        if (cls == "pndt::CObservationPanopticMap")
+        {
+            EXPECT_EQ(label, "PANOPTIC_MAP");
+            map_stamps.push_back(t);
+        }
+        else
+            ++inputs;
+    }
+    ASSERT_EQ(map_stamps.size(), 3u) << r.out;
+    for (size_t k = 0; k < 3; ++k) EXPECT_NEAR(map_stamps[k], index[k]["t_end"].get<double>(), 1e-5);
+    EXPECT_EQ(inputs, 24u * 4u);  // depth, two label images and a pose per frame
+
+    // Cut the second map's second out of it: that map and its 8 frames' observations.
+    const double from = index[0]["t_end"].get<double>() + 1e-3, to = index[1]["t_end"].get<double>() + 1e-3;
+    const std::string cut = (dir / "cut.rawlog").string();
+    r = cli::run(fmt::format("rawlog-edit{} --cut --from-time {:.4f} --to-time {:.4f} -i {} -o {}", pluginArg(),
+                             from, to, (out / "maps.rawlog").string(), cut));
+    const auto kept = readAll(cut);
+    size_t maps = 0;
+    for (const auto& o : kept)
+    {
+        const double s = mrpt::Clock::toDouble(o->timestamp);
+        EXPECT_GE(s, from);
+        EXPECT_LE(s, to);
+        if (const auto m = std::dynamic_pointer_cast<CObservationPanopticMap>(o))
+        {
+            ++maps;
+            EXPECT_EQ(m->sequence, 1u);
+            EXPECT_EQ(m->map->core().voxels().size(), index[1]["voxels"].get<size_t>());
+        }
+    }
+    EXPECT_EQ(maps, 1u) << r.out;
+    EXPECT_EQ(kept.size(), 1u + 8u * 4u) << r.out;
+
+    // Off: no maps.rawlog.
+    r = cli::run(cli::mapExe() + input + " -o " + (dir / "off").string() + " --period 1 --no-maps-rawlog");
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_FALSE(fs::exists(dir / "off" / "maps.rawlog"));
+    fs::remove_all(dir);
+}
