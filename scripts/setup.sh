@@ -14,6 +14,7 @@ PACKAGES=(
   python3-onnx python3-numpy       # tiny ONNX test models, written at build time (tests/seg)
   libfmt-dev libcli11-dev nlohmann-json3-dev zlib1g-dev
   libceres-dev                     # frame-to-map pose refinement (libs/pndt_refine)
+  libopenni2-dev                   # OpenNI2 RGB-D capture for pndt-live and its virtual camera driver
   libgtest-dev liboctomap-dev     # OctoMap, for the side-by-side benchmark
   libegl-mesa0 libgl1-mesa-dri     # off-screen rendering of 3D views (EGL, no display)
   xvfb xauth                       # a virtual display for the interactive viewer

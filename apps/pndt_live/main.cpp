@@ -1,0 +1,278 @@
+// pndt-live: RGB-D from an OpenNI2 camera + poses streamed by a localiser (RTAB-Map, ...) ->
+// rolling short-term panoptic maps at camera rate, as pndt-map builds them from a rawlog
+// (issue #19; README "Live with a camera").
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <mrpt/maps/CMultiMetricMap.h>
+#include <pndt/app/layered_config.h>
+#include <pndt/app/map_outputs.h>
+#include <pndt/class_set.h>
+#include <pndt/io/atomic_file.h>
+#include <pndt/live/live_pipeline.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+
+#include "mapper_settings.h"
+
+using namespace pndt;
+using namespace pndt::app;
+using namespace pndt::live;
+
+namespace
+{
+std::atomic<bool> g_stop{false};
+extern "C" void onSignal(int) { g_stop = true; }
+
+/// Exit codes: 0 ok (also after Ctrl-C / SIGTERM: the map was finalised and written),
+/// 1 error, 3 an output could not be written, 4 the camera was lost (unplugged, no frames):
+/// the map holds what was mapped before and was written.
+constexpr int kExitError = 1, kExitWriteFailed = 3, kExitCameraLost = 4;
+
+std::string configDir()
+{
+    if (const char* d = std::getenv("PNDT_CONFIG_DIR")) return d;
+    std::error_code ec;
+    const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (!ec)
+    {
+        const auto installed = exe.parent_path().parent_path() / "share" / "panopticndt" / "config";
+        if (std::filesystem::is_regular_file(installed / "panoptic_ndt.ini")) return installed.string();
+    }
+    return PNDT_CONFIG_DIR;
+}
+
+ShortTermMaps::Factory mapFactory(const mrpt::config::CConfigFileBase& cfg)
+{
+    auto inits = std::make_shared<mrpt::maps::TSetOfMetricMapInitializers>();
+    inits->loadFromConfigFile(cfg, "MAP");
+    for (const auto& def : *inits)
+        if (def->getMetricMapClassType() == CLASS_ID(PanopticNDTMap))
+            return [inits, def] { return PanopticNDTMap::Ptr(PanopticNDTMap::CreateFromMapDefinition(*def)); };
+    throw std::runtime_error("config: [MAP] defines no PanopticNDTMap (set PanopticNDTMap_count=1)");
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+    CLI::App app{"pndt-live: an OpenNI2 RGB-D camera + streamed poses -> short-term panoptic NDT maps"};
+    bool list_devices = false, no_registration = false, no_color = false;
+    OniCaptureOptions cam;
+    std::string intrinsics, out_dir = "out/live", model, up, record, pose_format = "rtabmap11", pose_frame,
+                                  pose_file, stamps = "device";
+    int pose_tcp = -1, pose_udp = -1;
+    double clock_offset = 0, pose_wait = 0.5, seconds = 0, period = -1, voxel_size = 0, grab_timeout = 3.0;
+    uint64_t max_frames = 0;
+    std::vector<std::string> presets, configs, sets;
+    app.add_flag("--list-devices", list_devices, "list the OpenNI2 devices and exit");
+    app.add_option("-d,--device", cam.device, "device index, serial number or OpenNI2 URI (default: the first)");
+    app.add_option("--width", cam.width)->capture_default_str();
+    app.add_option("--height", cam.height)->capture_default_str();
+    app.add_option("--fps", cam.fps)->capture_default_str();
+    app.add_flag("--no-registration", no_registration, "do not ask the device to register depth to colour");
+    app.add_flag("--no-color", no_color, "depth only (geometry-only maps unless the model takes depth)");
+    app.add_option("--intrinsics", intrinsics, "'fx fy cx cy' of the (registered) depth image; default: from the "
+                                               "device's fields of view");
+    app.add_option("--pose-tcp", pose_tcp, "listen for pose lines on this TCP port (one connection per localiser; "
+                                           "reconnects welcome)");
+    app.add_option("--pose-udp", pose_udp, "receive pose lines as UDP datagrams on this port");
+    app.add_option("--pose-file", pose_file, "follow a pose file being appended to (tail -f)");
+    std::string pose_grabber;
+    app.add_option("--pose-grabber", pose_grabber, "INI:SECTION of an MRPT grabber (rawlog-grabber style) whose "
+                                                   "CObservationRobotPose observations are the poses");
+    app.add_option("--pose-format", pose_format, "pose lines: rtabmap11 (RTAB-Map's default export), rtabmap10, tum")
+        ->capture_default_str();
+    app.add_option("--pose-frame", pose_frame, "robot | camera (default: robot for rtabmap*, camera for tum)");
+    app.add_option("--clock-offset", clock_offset, "seconds added to pose stamps (localiser clock -> frame clock)");
+    app.add_option("--pose-wait", pose_wait, "seconds a frame waits for a pose at or after its stamp, then it is "
+                                             "skipped and counted")
+        ->capture_default_str();
+    app.add_option("--stamps", stamps, "frame clock: device (the camera's frame stamps) or host (time of grab)")
+        ->check(CLI::IsMember({"device", "host"}))
+        ->capture_default_str();
+    app.add_option("--grab-timeout", grab_timeout, "seconds without a frame after which the camera counts as lost")
+        ->capture_default_str();
+    app.add_option("--model", model, "segmentation model description (JSON); without it the map is geometry-only");
+    app.add_option("--up", up, "gravity up in the poses' world frame, 'x y z' (segmentation)");
+    app.add_option("--record", record, "write what was seen (depth, colour, labels, poses) as a rawlog; "
+                                       "`pndt-map RECORD` rebuilds the same maps");
+    app.add_option("--max-frames", max_frames, "stop after this many captured frames (0 = until Ctrl-C)");
+    app.add_option("--seconds", seconds, "stop after this many seconds (0 = until Ctrl-C)");
+    app.add_option("-o,--out", out_dir, "output folder (as pndt-map)")->capture_default_str();
+    app.add_option("-p,--preset", presets, "preset from config/presets (as pndt-map)")
+        ->delimiter(',')
+        ->check(CLI::IsMember({"scannet", "hypersim", "realworld", "paper", "detector"}));
+    app.add_option("-c,--config", configs, ".ini files layered over the defaults (repeatable)");
+    app.add_option("-s,--set", sets, "override: section.key=value (repeatable)");
+    app.add_option("--period", period, "short-term map period (config period_unit; 0 = one map)");
+    app.add_option("--voxel-size", voxel_size, "voxel size in metres");
+    CLI11_PARSE(app, argc, argv);
+
+    std::signal(SIGINT, onSignal);
+    std::signal(SIGTERM, onSignal);
+    try
+    {
+        if (list_devices)
+        {
+            const auto devices = listOniDevices();
+            if (devices.empty()) fmt::print("no OpenNI2 device found\n");
+            for (size_t i = 0; i < devices.size(); ++i)
+                fmt::print("{}: {}  {} {}  serial {}  usb {:04x}:{:04x}\n", i, devices[i].uri, devices[i].vendor,
+                           devices[i].name, devices[i].serial.empty() ? "-" : devices[i].serial,
+                           devices[i].usb_vendor, devices[i].usb_product);
+            return 0;
+        }
+        // ---- configuration: exactly pndt-map's
+        std::vector<std::string> files = {configDir() + "/panoptic_ndt.ini", configDir() + "/pndt_map.ini"};
+        for (const auto& preset : presets) files.push_back(configDir() + "/presets/" + preset + ".ini");
+        files.insert(files.end(), configs.begin(), configs.end());
+        if (period >= 0) sets.push_back(fmt::format("pndt-map.period={}", period));
+        if (voxel_size > 0) sets.push_back(fmt::format("MAP_PanopticNDTMap_00_creationOpts.voxel_size={}", voxel_size));
+        const auto cfg = loadLayeredConfig(files, sets);
+        rejectUnknownSections(cfg, {"pndt-map", "MAP"}, {"MAP_"});
+        MapperSettings settings = MapperSettings::load(cfg);
+        settings.short_term.out_dir = out_dir;
+        const auto factory = mapFactory(cfg);
+        const auto prototype = factory();
+
+        // ---- segmentation (checked before the camera opens: a bad model fails at once)
+        const ClassSet classes = ClassSet::nyuv2_40();
+        std::unique_ptr<seg::Segmenter> segmenter;
+        if (!model.empty())
+        {
+            seg::SegmenterOptions so;
+            if (!up.empty())
+            {
+                std::istringstream in(up);
+                Eigen::Vector3d u;
+                if (!(in >> u.x() >> u.y() >> u.z())) throw std::runtime_error("--up '" + up + "' is not 'x y z'");
+                so.up_world = u.normalized();
+            }
+            segmenter = seg::loadSegmenter(model, classes, so);
+        }
+
+        // ---- poses
+        if (pose_tcp < 0 && pose_udp < 0 && pose_file.empty() && pose_grabber.empty())
+            throw std::runtime_error(
+                "no pose source: give --pose-tcp PORT, --pose-udp PORT, --pose-file FILE or --pose-grabber INI:SECTION");
+        const LineFormat lf = parseLineFormat(pose_format);
+        const PoseFrame pf = !pose_frame.empty()         ? parsePoseFrame(pose_frame)
+                             : lf == LineFormat::Tum     ? PoseFrame::Camera
+                                                         : PoseFrame::Robot;
+        LivePoseBuffer poses("LIVE_POSE", clock_offset);
+        std::vector<std::unique_ptr<PoseSource>> sources;
+        if (pose_tcp >= 0)
+        {
+            int bound = 0;
+            sources.push_back(tcpPoseServer(pose_tcp, lf, pf, poses, &bound));
+        }
+        if (pose_udp >= 0) sources.push_back(udpPoseReceiver(pose_udp, lf, pf, poses));
+        if (!pose_file.empty()) sources.push_back(tailPoseFile(pose_file, lf, pf, poses));
+        if (!pose_grabber.empty())
+        {
+            const auto colon = pose_grabber.rfind(':');
+            if (colon == std::string::npos) throw std::runtime_error("--pose-grabber '" + pose_grabber + "' is not INI:SECTION");
+            sources.push_back(mrptGrabberPoses(pose_grabber.substr(0, colon), pose_grabber.substr(colon + 1), poses));
+        }
+
+        // ---- camera
+        cam.registration = !no_registration;
+        cam.color = !no_color;
+        if (!intrinsics.empty())
+        {
+            std::istringstream in(intrinsics);
+            CameraIntrinsics K{cam.width, cam.height, 0, 0, 0, 0};
+            if (!(in >> K.fx >> K.fy >> K.cx >> K.cy)) throw std::runtime_error("--intrinsics '" + intrinsics + "' is not 'fx fy cx cy'");
+            cam.K = K;
+        }
+        OniCapture capture(cam);
+        auto grabber = grabberOf(capture);
+
+        std::filesystem::create_directories(out_dir);
+        ShortTermMaps maps(factory, settings.short_term);
+        LiveOptions lo;
+        lo.pose_wait = pose_wait;
+        lo.device_stamps = stamps == "device";
+        lo.max_pose_gap = settings.pose_max_gap;
+        lo.camera_pose = settings.camera_pose.value_or(mrpt::poses::CPose3D());
+        lo.max_frames = max_frames;
+        lo.record = record;
+        lo.grab_timeout = grab_timeout;
+        LivePipeline pipeline(*grabber, segmenter.get(), poses, maps, prototype->insertionOptions, lo);
+
+        fmt::print("pndt-live: {}\n", capture.describe());
+        fmt::print("poses     : ");
+        for (const auto& s : sources) fmt::print("{}; ", s->describe());
+        fmt::print("{} lines, {} frame\n", pose_format, pf == PoseFrame::Camera ? "camera" : "robot");
+        fmt::print("labels    : {}\n", segmenter ? segmenter->describe() : "none (geometry only, no --model)");
+        fmt::print("map       : {}; outputs in {}{}\n", prototype->asString(), out_dir,
+                   record.empty() ? "" : "; recording " + record);
+        std::fflush(stdout);
+
+        const auto t0 = std::chrono::steady_clock::now();
+        uint64_t last_cap = 0, last_seg = 0, last_map = 0;
+        double last_t = 0;
+        pipeline.run(g_stop, [&](const LiveStats& s, double t) {
+            const double dt = std::max(1e-3, t - last_t);
+            fmt::print("[{:6.1f} s] capture {:5.1f} fps | segmentation {:5.1f} fps, labelled {:3.0f}%, dropped {} | "
+                       "mapping {:5.1f} fps | pose waits {} skipped, no pose {} | poses {} ({} connected)\n",
+                       t, (s.captured - last_cap) / dt, (s.segmented - last_seg) / dt,
+                       s.captured ? 100.0 * s.labelled / s.captured : 0.0, s.seg_dropped, (s.mapped - last_map) / dt,
+                       s.pose_wait_skipped, s.no_pose_skipped, poses.received(), poses.open_connections.load());
+            std::fflush(stdout);
+            last_cap = s.captured, last_seg = s.segmented, last_map = s.mapped, last_t = t;
+            if (seconds > 0 && t >= seconds) g_stop = true;
+        });
+        const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        sources.clear();
+
+        const LiveStats& s = pipeline.stats();
+        fmt::print("\nframes captured    : {} in {:.1f} s ({:.1f} fps)\n", s.captured, wall, s.captured / wall);
+        fmt::print("frames mapped      : {} ({:.1f} fps; {} labelled = {:.0f}% of captured, the rest geometry only)\n",
+                   s.mapped, s.mapped / wall, s.labelled, s.captured ? 100.0 * s.labelled / s.captured : 0.0);
+        fmt::print("frames skipped     : {} waited {:.2f} s for a pose in vain, {} without a pose within {} s, {} "
+                   "dropped because mapping was behind\n",
+                   s.pose_wait_skipped, pose_wait, s.no_pose_skipped, settings.pose_max_gap, s.mapping_dropped);
+        fmt::print("segmentation       : {} frames labelled, {} went on unlabelled (segmentation behind), {} errors\n",
+                   s.labelled, s.seg_dropped, s.seg_errors);
+        fmt::print("poses              : {} received, {} out of order dropped, {} bad lines, {} connections\n",
+                   poses.received(), poses.droppedOutOfOrder(), poses.bad_lines.load(), poses.connections.load());
+        fmt::print("maps written       : {} in {} (index.json)\n", maps.index().size(), out_dir);
+        if (!record.empty()) fmt::print("recording          : {} ({} frames)\n", record, s.recorded_frames);
+        if (const auto m = maps.current())
+        {
+            const PanopticMap& core = m->core();
+            writeInstanceReport(core, out_dir + "/instances.json");
+            if (pipeline.last()) writeRenderedViews(core, pipeline.last()->T_world_cam, pipeline.last()->frame.K,
+                                                    out_dir + "/view_last");
+            writeFloorPlan(core, out_dir + "/floor_plan.png");
+            fmt::print("final map          : {}\n", m->asString());
+        }
+        else
+            fmt::print(stderr, "pndt-live: no frame was mapped (no poses for the frames?): no map written\n");
+        if (s.camera_lost)
+        {
+            fmt::print(stderr, "pndt-live: camera lost: {} after {} frames; the map holds what was mapped before "
+                               "and was written (exit code {})\n",
+                       s.camera_error, s.captured, kExitCameraLost);
+            return kExitCameraLost;
+        }
+        if (g_stop) fmt::print("pndt-live: stopped; the current map was finalised and written\n");
+    }
+    catch (const io::WriteError& e)
+    {
+        fmt::print(stderr, "pndt-live: error: {}\n", e.what());
+        return kExitWriteFailed;
+    }
+    catch (const std::exception& e)
+    {
+        std::string msg = e.what();
+        if (const auto p = msg.find("Call stack"); p != std::string::npos) msg.resize(p);
+        fmt::print(stderr, "pndt-live: error: {}\n", msg);
+        return kExitError;
+    }
+    return 0;
+}

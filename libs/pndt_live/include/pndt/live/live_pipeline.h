@@ -1,0 +1,102 @@
+// The live pipeline of pndt-live (issue #19): capture -> segmentation -> mapping -> writers.
+//
+//  - capture (calling run()'s own thread): grabs frames, stamps them, queues them for the
+//    segmentation and, in capture order, for the mapper;
+//  - segmentation: labels the newest waiting frames; when it falls behind, the oldest frame
+//    waiting for it goes on unlabelled (counted) and is mapped geometry-only, so the map keeps
+//    up with the camera;
+//  - mapping: waits (bounded) for a pose at or after the frame's stamp, records the poses and
+//    the frame, interpolates the camera pose and integrates into the short-term maps exactly as
+//    pndt-map does with a rawlog's robot poses — so replaying the recording with pndt-map gives
+//    the same maps; a frame whose pose does not come in time is skipped and counted, never
+//    mapped with a stale pose;
+//  - writers: the recording (own thread) and the short-term maps' writer (ShortTermMaps).
+#pragma once
+
+#include <pndt/app/pose_track.h>
+#include <pndt/app/short_term_maps.h>
+#include <pndt/live/oni_capture.h>
+#include <pndt/live/pose_stream.h>
+#include <pndt/mrpt/observation_pairer.h>
+#include <pndt/seg/segmenter.h>
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+
+namespace pndt::live
+{
+/// Where frames come from: an OpenNI2 device, or a test double.
+class FrameGrabber
+{
+   public:
+    virtual ~FrameGrabber() = default;
+    virtual std::optional<CapturedFrame> grab(double timeout_s) = 0;
+    virtual bool disconnected() const = 0;
+};
+std::unique_ptr<FrameGrabber> grabberOf(OniCapture& c);
+
+struct LiveOptions
+{
+    double pose_wait = 0.5;        ///< seconds a frame waits for a bracketing pose before it is skipped
+    bool device_stamps = true;     ///< frame time = device stamp (+ stamp_offset); false: host clock at grab
+    double stamp_offset = 0;       ///< seconds added to device stamps
+    double max_pose_gap = 0.1;     ///< as pndt-map's pose_max_gap
+    mrpt::poses::CPose3D camera_pose;  ///< robot -> camera (the scans' sensorPose)
+    size_t segmentation_queue = 2; ///< frames waiting for the segmentation before the oldest goes on unlabelled
+    size_t mapping_queue = 90;     ///< frames waiting for the mapper before capture drops new ones
+    double grab_timeout = 3.0;     ///< seconds without a frame = camera lost
+    uint64_t max_frames = 0;       ///< stop after this many captured frames (0 = until stopped)
+    std::string record;            ///< rawlog of what was seen (empty = none)
+    std::string pose_label = "LIVE_POSE";
+};
+
+struct LiveStats
+{
+    std::atomic<uint64_t> captured{0}, segmented{0}, labelled{0}, seg_dropped{0}, mapping_dropped{0}, mapped{0},
+        pose_wait_skipped{0}, no_pose_skipped{0}, recorded_frames{0}, seg_errors{0};
+    std::atomic<bool> camera_lost{false}, camera_unplugged{false};
+    std::string camera_error;  ///< set once before camera_lost
+};
+
+class LivePipeline
+{
+   public:
+    /// `segmenter` may be null (geometry only). Everything passed must outlive run().
+    LivePipeline(FrameGrabber& grabber, seg::Segmenter* segmenter, LivePoseBuffer& poses, app::ShortTermMaps& maps,
+                 const InsertionOptions& pairing, LiveOptions options);
+    ~LivePipeline();
+
+    /// Runs until `stop` is set, max_frames were captured or the camera is lost; calls
+    /// `status` about once a second from the calling thread. Finalises: remaining frames are
+    /// mapped, the maps finished and the recording committed. Rethrows a mapping error.
+    void run(const std::atomic<bool>& stop, const std::function<void(const LiveStats&, double seconds)>& status);
+
+    const LiveStats& stats() const { return stats_; }
+    /// The last mapped frame (for the final views), if any.
+    const std::optional<PairedFrame>& last() const { return last_; }
+    /// Pose-track size, for the summary.
+    size_t poses() const { return track_.size(); }
+
+   private:
+    struct Item;
+    struct Queues;
+    void captureLoop(const std::atomic<bool>& stop);
+    void segmentationLoop();
+    void mappingLoop();
+    void mapItem(Item& it, std::vector<PairedFrame>& done);
+
+    FrameGrabber& grabber_;
+    seg::Segmenter* segmenter_;
+    LivePoseBuffer& poses_;
+    app::ShortTermMaps& maps_;
+    ObservationPairer pairer_;
+    app::PoseTrack track_;
+    LiveOptions o_;
+    LiveStats stats_;
+    std::optional<PairedFrame> last_;
+    std::unique_ptr<Queues> q_;
+};
+
+}  // namespace pndt::live

@@ -1,0 +1,343 @@
+#include <fmt/format.h>
+#include <mrpt/system/datetime.h>
+#include <pndt/live/live_pipeline.h>
+#include <pndt/mrpt/observation_frame.h>
+#include <pndt/mrpt/rawlog_frames.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <thread>
+
+namespace pndt::live
+{
+namespace
+{
+class OniGrabber : public FrameGrabber
+{
+   public:
+    explicit OniGrabber(OniCapture& c) : c_(c) {}
+    std::optional<CapturedFrame> grab(double t) override { return c_.grab(t); }
+    bool disconnected() const override { return c_.disconnected(); }
+
+   private:
+    OniCapture& c_;
+};
+
+/// Writes observations to the recording from its own thread, in order.
+class Recorder
+{
+   public:
+    explicit Recorder(const std::string& path) : w_(path, "RGBD", 1), path_(path)
+    {
+        t_ = std::thread([this] { run(); });
+    }
+    ~Recorder() { close(false); }
+    void push(mrpt::obs::CObservation::Ptr o)
+    {
+        {
+            std::lock_guard<std::mutex> lk(m_);
+            q_.push_back(std::move(o));
+        }
+        cv_.notify_one();
+    }
+    /// Drains the queue; commits (renames into place) when `commit`.
+    void close(bool commit)
+    {
+        {
+            std::lock_guard<std::mutex> lk(m_);
+            if (closed_) return;
+            closed_ = true;
+        }
+        cv_.notify_one();
+        t_.join();
+        if (!error_.empty()) throw std::runtime_error(fmt::format("recording {}: {}", path_, error_));
+        if (commit) w_.commit();
+    }
+
+   private:
+    void run()
+    {
+        for (;;)
+        {
+            std::unique_lock<std::mutex> lk(m_);
+            cv_.wait(lk, [&] { return closed_ || !q_.empty(); });
+            if (q_.empty() && closed_) return;
+            auto o = std::move(q_.front());
+            q_.pop_front();
+            lk.unlock();
+            try
+            {
+                if (error_.empty()) w_.writeObservation(*o);
+            }
+            catch (const std::exception& e)
+            {
+                error_ = e.what();
+            }
+        }
+    }
+    RawlogFrameWriter w_;
+    std::string path_, error_;
+    std::mutex m_;
+    std::condition_variable cv_;
+    std::deque<mrpt::obs::CObservation::Ptr> q_;
+    bool closed_ = false;
+    std::thread t_;
+};
+}  // namespace
+
+std::unique_ptr<FrameGrabber> grabberOf(OniCapture& c) { return std::make_unique<OniGrabber>(c); }
+
+struct LivePipeline::Item
+{
+    CapturedFrame frame;
+    double t = 0;
+    mrpt::obs::CObservationImage::Ptr semantic, instance;  ///< null: geometry only
+    bool ready = false;                                      ///< segmentation done or given up
+};
+
+struct LivePipeline::Queues
+{
+    std::mutex m;
+    std::condition_variable cv;
+    std::deque<std::shared_ptr<Item>> to_segment, to_map;
+    bool capture_done = false, seg_done = false;
+    std::unique_ptr<Recorder> recorder;
+    std::exception_ptr map_error;
+};
+
+LivePipeline::LivePipeline(FrameGrabber& grabber, seg::Segmenter* segmenter, LivePoseBuffer& poses,
+                           app::ShortTermMaps& maps, const InsertionOptions& pairing, LiveOptions options)
+    : grabber_(grabber),
+      segmenter_(segmenter),
+      poses_(poses),
+      maps_(maps),
+      track_(app::PoseTrack::whileReading("the live pose stream", options.pose_label, options.max_pose_gap)),
+      o_(std::move(options)),
+      q_(std::make_unique<Queues>())
+{
+    pairer_.options = pairing;
+    if (!o_.record.empty()) q_->recorder = std::make_unique<Recorder>(o_.record);
+}
+
+LivePipeline::~LivePipeline() = default;
+
+void LivePipeline::captureLoop(const std::atomic<bool>& stop)
+{
+    while (!stop && (o_.max_frames == 0 || stats_.captured < o_.max_frames))
+    {
+        auto f = grabber_.grab(o_.grab_timeout);
+        if (!f)
+        {
+            if (stop) break;
+            stats_.camera_unplugged = grabber_.disconnected();
+            stats_.camera_error = stats_.camera_unplugged
+                                      ? std::string("the camera was disconnected")
+                                      : fmt::format("no frame from the camera for {:.1f} s", o_.grab_timeout);
+            stats_.camera_lost = true;
+            break;
+        }
+        ++stats_.captured;
+        auto it = std::make_shared<Item>();
+        it->t = o_.device_stamps ? f->device_t + o_.stamp_offset
+                                 : mrpt::Clock::toDouble(mrpt::Clock::now());
+        f->scan->timestamp = mrpt::Clock::fromDouble(it->t);
+        it->t = mrpt::Clock::toDouble(f->scan->timestamp);  // what a replay reads back (100 ns ticks)
+        f->scan->sensorPose = o_.camera_pose;
+        it->frame = std::move(*f);
+        {
+            std::lock_guard<std::mutex> lk(q_->m);
+            if (q_->to_map.size() >= o_.mapping_queue)
+            {
+                ++stats_.mapping_dropped;  // the mapper is behind: this frame is not mapped
+                continue;
+            }
+            q_->to_map.push_back(it);
+            if (segmenter_)
+            {
+                q_->to_segment.push_back(it);
+                if (q_->to_segment.size() > o_.segmentation_queue)
+                {
+                    q_->to_segment.front()->ready = true;  // goes on unlabelled: geometry only
+                    q_->to_segment.pop_front();
+                    ++stats_.seg_dropped;
+                }
+            }
+            else
+                it->ready = true;
+        }
+        q_->cv.notify_all();
+    }
+    {
+        std::lock_guard<std::mutex> lk(q_->m);
+        q_->capture_done = true;
+    }
+    q_->cv.notify_all();
+}
+
+void LivePipeline::segmentationLoop()
+{
+    PanopticFrame frame;
+    Image<seg::RgbPixel> rgb;
+    for (;;)
+    {
+        std::shared_ptr<Item> it;
+        {
+            std::unique_lock<std::mutex> lk(q_->m);
+            q_->cv.wait(lk, [&] { return !q_->to_segment.empty() || q_->capture_done; });
+            if (q_->to_segment.empty()) break;
+            it = q_->to_segment.front();
+            q_->to_segment.pop_front();
+        }
+        const auto& scan = *it->frame.scan;
+        try
+        {
+            depthFrameFrom(scan, frame);
+            seg::SegmentationInput in;
+            in.K = frame.K;
+            in.depth = &frame.depth;
+            if (scan.hasIntensityImage)
+            {
+                rgb.resize(int(scan.intensityImage.getWidth()), int(scan.intensityImage.getHeight()));
+                for (int r = 0; r < rgb.height; ++r)
+                {
+                    const uint8_t* row = scan.intensityImage.ptrLine<uint8_t>(r);
+                    for (int c = 0; c < rgb.width; ++c) rgb.at(r, c) = {row[3 * c + 2], row[3 * c + 1], row[3 * c]};
+                }
+                in.color = &rgb;
+            }
+            in.source = describeObservation(scan);
+            segmenter_->segment(in, frame);
+            auto sem = std::make_shared<mrpt::obs::CObservationImage>();
+            auto inst = std::make_shared<mrpt::obs::CObservationImage>();
+            labelImagesFrom(frame, scan.sensorLabel, scan.timestamp, *sem, *inst);
+            it->semantic = std::move(sem);
+            it->instance = std::move(inst);
+            ++stats_.labelled;
+        }
+        catch (const std::exception& e)
+        {
+            if (stats_.seg_errors++ < 3) fmt::print(stderr, "\npndt-live: segmentation failed: {}\n", e.what());
+        }
+        ++stats_.segmented;
+        {
+            std::lock_guard<std::mutex> lk(q_->m);
+            it->ready = true;
+        }
+        q_->cv.notify_all();
+    }
+    {
+        std::lock_guard<std::mutex> lk(q_->m);
+        q_->seg_done = true;
+    }
+    q_->cv.notify_all();
+}
+
+void LivePipeline::mapItem(Item& it, std::vector<PairedFrame>& done)
+{
+    // Never mapped with a stale pose: wait (bounded) for a pose at or after the frame.
+    if (!poses_.waitFor(it.t, o_.pose_wait))
+    {
+        ++stats_.pose_wait_skipped;
+        return;
+    }
+    for (auto& p : poses_.take())
+    {
+        if (q_->recorder) q_->recorder->push(p);
+        track_.addRobotPose(*p);
+    }
+    const auto T = track_.cameraAt(it.t, it.frame.scan->sensorPose);
+    if (!T)
+    {
+        ++stats_.no_pose_skipped;
+        return;
+    }
+    if (q_->recorder)
+    {
+        q_->recorder->push(it.frame.scan);
+        if (it.semantic) q_->recorder->push(it.semantic), q_->recorder->push(it.instance);
+        ++stats_.recorded_frames;
+    }
+    pairer_.pushScan(*it.frame.scan, *T, done);
+    if (it.semantic)
+    {
+        pairer_.push(*it.semantic, mrpt::poses::CPose3D(), done);
+        pairer_.push(*it.instance, mrpt::poses::CPose3D(), done);
+    }
+}
+
+void LivePipeline::mappingLoop()
+{
+    std::vector<PairedFrame> done;
+    const auto integrateDone = [&] {
+        for (PairedFrame& p : done)
+        {
+            maps_.integrate(p.frame, p.T_world_cam, mrpt::Clock::toDouble(p.stamp));
+            ++stats_.mapped;
+            last_ = std::move(p);
+        }
+        done.clear();
+    };
+    try
+    {
+        for (;;)
+        {
+            std::shared_ptr<Item> it;
+            {
+                std::unique_lock<std::mutex> lk(q_->m);
+                q_->cv.wait(lk, [&] {
+                    return (!q_->to_map.empty() && q_->to_map.front()->ready) || (q_->to_map.empty() && q_->capture_done);
+                });
+                if (q_->to_map.empty()) break;
+                it = q_->to_map.front();
+                q_->to_map.pop_front();
+            }
+            mapItem(*it, done);
+            integrateDone();
+        }
+        pairer_.flush(done);
+        integrateDone();
+    }
+    catch (...)
+    {
+        q_->map_error = std::current_exception();
+        std::lock_guard<std::mutex> lk(q_->m);
+        q_->to_map.clear();
+    }
+}
+
+void LivePipeline::run(const std::atomic<bool>& stop,
+                       const std::function<void(const LiveStats&, double)>& status)
+{
+    std::atomic<bool> capture_stop{false};
+    std::thread seg, map([this] { mappingLoop(); });
+    if (segmenter_) seg = std::thread([this] { segmentationLoop(); });
+    std::thread capture([&] { captureLoop(capture_stop); });
+    const auto t0 = std::chrono::steady_clock::now();
+    auto next = t0 + std::chrono::seconds(1);
+    for (;;)
+    {
+        if (stop) capture_stop = true;
+        {
+            std::lock_guard<std::mutex> lk(q_->m);
+            if (q_->capture_done && (!segmenter_ || q_->seg_done) && q_->to_map.empty()) break;
+            if (q_->map_error) capture_stop = true;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        if (std::chrono::steady_clock::now() >= next)
+        {
+            next += std::chrono::seconds(1);
+            if (status) status(stats_, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        }
+    }
+    capture.join();
+    if (seg.joinable()) seg.join();
+    poses_.stop();
+    map.join();
+    maps_.finish();
+    if (q_->recorder) q_->recorder->close(!q_->map_error);
+    if (q_->map_error) std::rethrow_exception(q_->map_error);
+}
+
+}  // namespace pndt::live

@@ -1,0 +1,154 @@
+// Pose stream sources of pndt-live: line parsing, ordering, TCP reconnects, UDP, file tail.
+#include <gtest/gtest.h>
+#include <mrpt/system/datetime.h>
+#include <pndt/live/pose_stream.h>
+#include <pndt/mrpt/observation_frame.h>
+
+#include <arpa/inet.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+using namespace pndt;
+using namespace pndt::live;
+
+namespace
+{
+int connectLocal(int port, int type = SOCK_STREAM)
+{
+    const int fd = ::socket(AF_INET, type, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_port = htons(uint16_t(port));
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    EXPECT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+    return fd;
+}
+void sendAll(int fd, const std::string& s) { ASSERT_EQ(::send(fd, s.data(), s.size(), 0), ssize_t(s.size())); }
+bool waitCount(const LivePoseBuffer& b, uint64_t n)
+{
+    for (int i = 0; i < 300 && b.received() < n; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    return b.received() >= n;
+}
+}  // namespace
+
+TEST(PoseLine, ParsesTumAndRtabmap11AndNamesBadLines)
+{
+    const auto p = parsePoseLine("1.5 1 2 3 0 0 0 1", LineFormat::Tum, "x");
+    ASSERT_TRUE(p);
+    EXPECT_DOUBLE_EQ(p->t, 1.5);
+    EXPECT_DOUBLE_EQ(p->T_world_sensor.translation().y(), 2.0);
+    const auto q = parsePoseLine("2 1 2 3 0 0 0 1 42", LineFormat::Rtabmap11, "x");
+    ASSERT_TRUE(q);
+    EXPECT_EQ(q->id, 42);
+    EXPECT_FALSE(parsePoseLine("#timestamp x y z qx qy qz qw id", LineFormat::Rtabmap11, "x"));
+    try
+    {
+        parsePoseLine("2 1 2 3 0 0 0 1 42", LineFormat::Tum, "TCP 1.2.3.4:5 (line 7)");
+        FAIL();
+    }
+    catch (const InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("TCP 1.2.3.4:5 (line 7): expected 8 values"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(parsePoseLine("1 0 0 0 0 0 0 0", LineFormat::Tum, "x"), InputError);  // zero quaternion
+    EXPECT_THROW(parseLineFormat("kml"), InputError);
+}
+
+TEST(LivePoseBuffer, DropsPosesNotAfterTheLastAndAppliesTheClockOffset)
+{
+    LivePoseBuffer b("P", 10.0);
+    io::StampedPose p;
+    p.t = 1.0;
+    b.add(p, app::PoseFrame::Robot);
+    b.add(p, app::PoseFrame::Robot);  // repeated (a reconnecting localiser)
+    p.t = 0.5;
+    b.add(p, app::PoseFrame::Robot);
+    p.t = 2.0;
+    b.add(p, app::PoseFrame::Robot);
+    EXPECT_EQ(b.received(), 2u);
+    EXPECT_EQ(b.droppedOutOfOrder(), 2u);
+    EXPECT_NEAR(b.latest(), 12.0, 1e-6);
+    const auto got = b.take();
+    ASSERT_EQ(got.size(), 2u);
+    EXPECT_NEAR(mrpt::Clock::toDouble(got[0]->timestamp), 11.0, 1e-6);
+    EXPECT_EQ(got[0]->sensorLabel, "P");
+    EXPECT_TRUE(b.take().empty());
+    EXPECT_TRUE(b.waitFor(12.0, 0.0));
+    const auto t0 = std::chrono::steady_clock::now();
+    EXPECT_FALSE(b.waitFor(12.5, 0.2));
+    EXPECT_GE(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 0.19);
+}
+
+TEST(LivePoseBuffer, CameraPosesBecomeRobotPosesWhoseCameraIsTheInput)
+{
+    LivePoseBuffer b;
+    io::StampedPose p;
+    p.t = 3;
+    p.T_world_sensor = Pose::Identity();
+    p.T_world_sensor.translation() << 1, 2, 3;
+    p.T_world_sensor.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+    b.add(p, app::PoseFrame::Camera);
+    const auto got = b.take();
+    ASSERT_EQ(got.size(), 1u);
+    const Pose back = cameraPoseInWorld(got[0]->pose.mean, mrpt::poses::CPose3D());
+    EXPECT_LT((back.matrix() - p.T_world_sensor.matrix()).cwiseAbs().maxCoeff(), 1e-9);
+}
+
+TEST(PoseSources, TcpTakesLinesAcrossReconnectsAndCountsBadLines)
+{
+    LivePoseBuffer b;
+    int port = 0;
+    auto src = tcpPoseServer(0, LineFormat::Rtabmap11, app::PoseFrame::Robot, b, &port);
+    ASSERT_GT(port, 0);
+    int fd = connectLocal(port);
+    sendAll(fd, "#timestamp x y z qx qy qz qw id\n1 0 0 0 0 0 0 1 1\n2 0 0 0 0 0 0 1 2\nnot a pose\n3 0 0");
+    ASSERT_TRUE(waitCount(b, 2));
+    ::close(fd);  // the half line "3 0 0" is lost with the connection
+    fd = connectLocal(port);
+    sendAll(fd, "3 1 0 0 0 0 0 1 3\n");
+    ASSERT_TRUE(waitCount(b, 3));
+    ::close(fd);
+    EXPECT_EQ(b.bad_lines.load(), 1u);
+    EXPECT_EQ(b.connections.load(), 2u);
+    EXPECT_NEAR(b.latest(), 3.0, 1e-6);
+}
+
+TEST(PoseSources, UdpDatagramsAndAFileBeingAppendedTo)
+{
+    LivePoseBuffer u;
+    int port = 0;
+    {
+        // a free UDP port: bind a TCP listener on 0 to find one, then use it for UDP
+        LivePoseBuffer tmp;
+        auto probe = tcpPoseServer(0, LineFormat::Tum, app::PoseFrame::Camera, tmp, &port);
+    }
+    auto udp = udpPoseReceiver(port, LineFormat::Tum, app::PoseFrame::Camera, u);
+    const int fd = connectLocal(port, SOCK_DGRAM);
+    sendAll(fd, "1 0 0 0 0 0 0 1\n2 0 0 0 0 0 0 1");
+    ASSERT_TRUE(waitCount(u, 2));
+    ::close(fd);
+
+    const auto path = std::filesystem::temp_directory_path() / ("pndt_tail_" + std::to_string(::getpid()) + ".txt");
+    std::filesystem::remove(path);
+    LivePoseBuffer f;
+    auto tail = tailPoseFile(path.string(), LineFormat::Tum, app::PoseFrame::Camera, f);  // the file comes later
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    {
+        std::ofstream out(path);
+        out << "1 0 0 0 0 0 0 1\n2 0 0 0";
+    }
+    ASSERT_TRUE(waitCount(f, 1));
+    {
+        std::ofstream out(path, std::ios::app);
+        out << " 0 0 0 1\n";  // the line completed by a later write
+    }
+    ASSERT_TRUE(waitCount(f, 2));
+    EXPECT_EQ(f.bad_lines.load(), 0u);
+    tail.reset();
+    std::filesystem::remove(path);
+}
