@@ -223,8 +223,11 @@ TEST(MapObservation, StockRawLogViewerOpensAMapsRawlogHeadless)
     const auto windows = [&](const std::string& args) {
         const std::string log = (dir / "viewer.log").string();
         const std::string script = fmt::format(
-            "RawLogViewer {} {} >{} 2>&1 & p=$!; sleep 6; kill -0 $p && echo VIEWER_ALIVE; xwininfo -root -tree; "
-            "kill $p; wait $p; echo; cat {}",
+            "RawLogViewer {} {} >{} 2>&1 & p=$!; "
+            // until it has settled (its tip window, or an error box; at most 20 s), then 2 s more
+            "for i in $(seq 40); do sleep 0.5; xwininfo -root -tree | grep -q -e \"Tip of the Day\" "
+            "-e \"Zero entries\" -e \"Error loading\" && break; done; sleep 2; "
+            "kill -0 $p && echo VIEWER_ALIVE; xwininfo -root -tree; kill $p; wait $p; echo; cat {}",
             args, path, log, log);
         return run("timeout 40 xvfb-run -a sh -c '" + script + "'");
     };
