@@ -14,6 +14,8 @@
 #include <pndt/mrpt/CObservationPanopticMap.h>
 
 #include <chrono>
+#include <csignal>
+#include <cstdlib>
 #include <fstream>
 #include <thread>
 
@@ -276,5 +278,58 @@ TEST(MapRawlog, PndtMapOutputIsListedAndCutByTheStockRawlogEdit)
     r = cli::run(cli::mapExe() + input + " -o " + (dir / "off").string() + " --period 1 --no-maps-rawlog");
     ASSERT_EQ(r.code, 0) << r.out;
     EXPECT_FALSE(fs::exists(dir / "off" / "maps.rawlog"));
+    fs::remove_all(dir);
+}
+
+TEST(MapRawlog, PndtMapKilledMidRunLeavesAReadableMapsRawlog)
+{
+    const fs::path dir = cli::tempDir("rawlog_kill");
+    const std::string input = (dir / "room.rawlog").string();
+    cli::Room(120).writeRawlog(input, 120);  // 15 s at 8 frames/s
+    const fs::path out = dir / "out";
+    const fs::path pid_file = dir / "pid";
+    // Maps every 0.5 s (4 frames); killed (SIGKILL) once index.json lists 3 maps.
+    ASSERT_EQ(std::system((cli::mapExe() + input + " -o " + out.string() + " --period 0.5 >" + (dir / "log").string() +
+                           " 2>&1 & echo $! >" + pid_file.string())
+                              .c_str()),
+              0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    pid_t pid = 0;
+    std::ifstream(pid_file) >> pid;
+    ASSERT_GT(pid, 0);
+    bool killed = false;
+    for (int i = 0; i < 3000 && !killed; ++i)
+    {
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        std::ifstream jf(out / "index.json");
+        if (!jf) continue;
+        try
+        {
+            if (nlohmann::json::parse(jf).size() >= 3) killed = ::kill(pid, SIGKILL) == 0;
+        }
+        catch (...)
+        {
+        }
+    }
+    if (!killed) GTEST_SKIP() << "pndt-map finished before it could be killed";
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    // Every object MRPT reads back is a whole map, in order, equal to its map_NNNN file's size.
+    const auto objs = readAll((out / "maps.rawlog").string());
+    ASSERT_GE(objs.size(), 1u);
+    std::ifstream jf(out / "index.json");
+    const auto index = nlohmann::json::parse(jf);
+    double last = 0;
+    for (size_t k = 0; k < objs.size(); ++k)
+    {
+        const auto m = std::dynamic_pointer_cast<CObservationPanopticMap>(objs[k]);
+        ASSERT_TRUE(m && m->map);
+        EXPECT_EQ(m->sequence, k);
+        EXPECT_GT(mrpt::Clock::toDouble(m->timestamp), last);
+        last = mrpt::Clock::toDouble(m->timestamp);
+        if (k < index.size()) EXPECT_EQ(m->map->core().voxels().size(), index[k]["voxels"].get<size_t>());
+    }
+    // And the stock tool agrees.
+    const std::string info = cli::run("rawlog-edit" + pluginArg() + " --info -i " + (out / "maps.rawlog").string()).out;
+    EXPECT_NE(info.find(fmt::format("Overall number of objects         : {}", objs.size())), std::string::npos) << info;
     fs::remove_all(dir);
 }
