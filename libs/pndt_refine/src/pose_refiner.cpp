@@ -183,6 +183,7 @@ struct PoseRefiner::Impl final : GaussianSearch
 {
     const PanopticMap* map = nullptr;
     double min_var = 0, gate2 = 0;
+    uint32_t min_samples = 0;
     const CachedGaussian* nearest(const Eigen::Vector3d& x) override
     {
         const VoxelKey k = map->grid().keyOf(x);
@@ -227,7 +228,7 @@ struct PoseRefiner::Impl final : GaussianSearch
         if (it != gauss_of.end()) return it->second;
         uint32_t idx = kNoRecord;
         const Voxel& v = map.voxels()[voxel];
-        if (map.isOccupied(v) && map.hasGaussian(v))
+        if (map.isOccupied(v) && map.hasGaussian(v) && map.shapeOf(v).n >= min_samples)
         {
             const NdtShape& s = map.shapeOf(v);
             CachedGaussian g;
@@ -385,11 +386,14 @@ RefineResult PoseRefiner::refine(const PanopticMap& map, const PanopticFrame& fr
     so.max_num_iterations = o.max_iterations;
     so.num_threads = 1;  // the costs share the Gaussian cache
     so.logging_type = ceres::SILENT;
+    so.function_tolerance = 1e-5;   // relative cost change: sub-millimetre steps by then
+    so.parameter_tolerance = 1e-6;
     so.minimizer_progress_to_stdout = false;
 
     m.map = &map;
     m.min_var = min_var;
     m.gate2 = gate2;
+    m.min_samples = o.min_samples;
     // Gaussians are referenced by pointer during a solve: room for every voxel the points can reach.
     m.gauss.reserve(std::max(m.gauss.capacity(), m.points.size() * 27));
     auto associate = [&](const Pose& T) {

@@ -46,15 +46,17 @@ struct RefineOptions
     // ---- points
     double subsample_voxel = 0.0;   ///< one frame point (nearest the centre) per cube of this edge (0: half the map's voxel size)
     int pixel_step = 2;             ///< every n-th pixel in rows and columns is read
-    uint32_t max_points = 3000;     ///< at most this many subsampled points (evenly thinned)
+    uint32_t max_points = 1500;     ///< at most this many subsampled points (evenly thinned)
     double max_depth = 6.0;         ///< metres; farther points are not used
     // ---- cost
     RobustLoss loss = RobustLoss::Cauchy;
-    double loss_scale = 2.0;        ///< robust loss scale on the Mahalanobis distance (sigmas)
-    double gate_sigma = 6.0;        ///< associations farther than this many sigmas are dropped
+    double loss_scale = 1.0;        ///< robust loss scale on the Mahalanobis distance (sigmas)
+    double gate_sigma = 2.0;        ///< associations farther than this many sigmas are dropped
     /// The map's covariances get at least this std-dev (fraction of the voxel size) for
     /// registration: a wider basin than the map's own floor (ndt_min_sigma_ratio).
     double min_sigma_ratio = 0.2;
+    /// Map voxels with fewer NDT samples than this (or than the map's ndt_min_samples) are not used.
+    uint32_t min_samples = 20;
     /// After convergence, one more solve with this floor (0: none), closer to the surfaces.
     double fine_sigma_ratio = 0.05;
     /// Residual weights per semantic class: stuff (wall, floor, ceiling) is trusted,
