@@ -15,6 +15,7 @@
 #include <pndt/app/progress_bar.h>
 #include <pndt/app/read_ahead_stream.h>
 #include <pndt/app/short_term_maps.h>
+#include <pndt/io/atomic_file.h>
 #include <pndt/mrpt/observation_pairer.h>
 
 #include <atomic>
@@ -39,6 +40,9 @@ extern "C" void onSignal(int) { g_stop = true; }
 
 /// Exit codes: 0 ok, 1 error, 2 input truncated (what could be read was mapped), 130 interrupted.
 constexpr int kExitError = 1, kExitTruncated = 2, kExitInterrupted = 130;
+// An output file could not be written (disk full, read-only, permissions): mapping stopped;
+// the maps already listed in index.json are complete (doc/hardening.md).
+constexpr int kExitWriteFailed = 3;
 
 /// $PNDT_CONFIG_DIR, else an installed copy (<prefix>/share/panopticndt/config beside
 /// <prefix>/bin/pndt-map), else the source tree's config/ (a build tree).
@@ -123,6 +127,9 @@ int main(int argc, char** argv)
     app.add_option("--period", period, "short-term map period (config period_unit; 0 = one map)");
     app.add_option("--voxel-size", voxel_size, "voxel size in metres");
     app.add_option("--max-frames", max_frames, "stop after this many mapped frames (0 = all)");
+    int64_t max_voxels = -1;
+    app.add_option("--max-voxels", max_voxels,
+                   "size budget of one map in voxels: a map reaching it is written and a new one started (0 = none)");
     app.add_flag("--no-progress", no_progress, "no progress bar");
     bool no_maps_rawlog = false, rawlog_inputs = false;
     app.add_flag("--no-maps-rawlog", no_maps_rawlog, "do not write maps.rawlog (config maps_rawlog)");
@@ -148,6 +155,7 @@ int main(int argc, char** argv)
         if (period >= 0) sets.push_back(fmt::format("pndt-map.period={}", period));
         if (no_maps_rawlog) sets.push_back("pndt-map.maps_rawlog=false");
         if (rawlog_inputs) sets.push_back("pndt-map.maps_rawlog_inputs=true");
+        if (max_voxels >= 0) sets.push_back(fmt::format("pndt-map.max_voxels={}", max_voxels));
         if (voxel_size > 0) sets.push_back(fmt::format("MAP_PanopticNDTMap_00_creationOpts.voxel_size={}", voxel_size));
         const auto cfg = loadLayeredConfig(files, sets);
         std::vector<std::string> sections;
@@ -204,7 +212,12 @@ int main(int argc, char** argv)
         const auto integrateDone = [&] {
             for (PairedFrame& p : done)
             {
+                const uint64_t budget_before = maps.budgetHandOvers();
                 maps.integrate(p.frame, p.T_world_cam, mrpt::Clock::toDouble(p.stamp));
+                if (maps.budgetHandOvers() != budget_before)
+                    fmt::print(stderr, "\npndt-map: {} reached the size budget of {} voxels: written early, a new "
+                               "short-term map started\n",
+                               maps.index().back().file, settings.short_term.max_voxels);
                 ++mapped;
                 labelled += p.labelled;
                 last = std::move(p);
@@ -370,6 +383,12 @@ int main(int argc, char** argv)
             fmt::print(stderr, "pndt-map: interrupted; the current map was finalised and written\n");
             return kExitInterrupted;
         }
+    }
+    catch (const io::WriteError& e)
+    {
+        fmt::print(stderr, "pndt-map: error: {}\npndt-map: mapping stopped; the maps listed in {}/index.json are complete\n",
+                   e.what(), out_dir);
+        return kExitWriteFailed;
     }
     catch (const std::exception& e)
     {

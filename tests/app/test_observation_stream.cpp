@@ -145,6 +145,33 @@ TEST(ObservationStream, ACorruptJpegColourImageStopsWithAMessageNotTheProcess)
     fs::remove_all(dir);
 }
 
+// Issue #23 (allocation limits): MRPT decodes a colour image at the size its JPEG header
+// claims; a header claiming 30000 x 30000 pixels (2.7 GB decoded) is refused first.
+TEST(ObservationStream, AJpegHeaderClaimingAHugeImageStopsBeforeDecoding)
+{
+    const fs::path dir = fs::temp_directory_path() / ("pndt_obs_hugejpeg_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    writeColourRawlog(dir / "whole.rawlog");
+    std::string plain = readDecompressed(dir / "whole.rawlog");
+    const size_t first = plain.find("\xFF\xD8\xFF\xE0");
+    const size_t sof = plain.find("\xFF\xC0", first);
+    ASSERT_NE(sof, std::string::npos);
+    for (size_t i : {sof + 5, sof + 7})  // height, width (big-endian 16 bits) = 30000
+    {
+        plain[i] = '\x75';
+        plain[i + 1] = '\x30';
+    }
+    writeCompressed(dir / "huge.rawlog", plain);
+    pndt::app::ObservationStream in((dir / "huge.rawlog").string());
+    size_t n = 0;
+    while (in.next()) ++n;
+    EXPECT_EQ(n, 1u);  // the robot pose before the first scan
+    ASSERT_TRUE(in.truncated());
+    EXPECT_NE(in.stopReason().find("JPEG header is implausible"), std::string::npos) << in.stopReason();
+    EXPECT_NE(in.stopReason().find("30000 x 30000"), std::string::npos) << in.stopReason();
+    fs::remove_all(dir);
+}
+
 TEST(ReadAheadStream, SameObservationsInOrderAndTheSameStopReason)
 {
     const fs::path dir = fs::temp_directory_path() / ("pndt_read_ahead_" + std::to_string(::getpid()));

@@ -162,3 +162,48 @@ TEST(ShortTermMaps, StableIdsAreCarriedToTheNextMap)
             EXPECT_TRUE(same) << "map " << k + 1 << " instance " << b.id << " has no predecessor with its id";
         }
 }
+
+// Issue #23: a size budget for long runs. A map that reaches max_voxels is written early and
+// the next map takes over with the next frame; no map grows past the budget by more than
+// one frame's voxels, and none is empty.
+TEST(ShortTermMaps, AVoxelBudgetWritesTheMapEarlyAndStartsANewOne)
+{
+    const Frames data = roomFrames(12);
+    // Without a budget: one map for the run; its size after the first frame sets the budget.
+    ShortTermOptions unbounded;
+    unbounded.write_files = false;
+    ShortTermMaps one([] { return PanopticNDTMap::Create(); }, unbounded);
+    one.integrate(data.frames[0], data.poses[0], 0.0);
+    const size_t first_frame_voxels = one.current()->core().voxels().size();
+    for (size_t i = 1; i < data.frames.size(); ++i) one.integrate(data.frames[i], data.poses[i], double(i));
+    one.finish();
+    ASSERT_EQ(one.index().size(), 1u);
+    const size_t budget = first_frame_voxels + first_frame_voxels / 4;
+    ASSERT_GT(one.index()[0].voxels, budget);  // the budget matters on this input
+
+    ShortTermOptions o;
+    o.max_voxels = budget;
+    o.out_dir = tempDir().string();
+    ShortTermMaps maps([] { return PanopticNDTMap::Create(); }, o);
+    for (size_t i = 0; i < data.frames.size(); ++i)
+    {
+        maps.integrate(data.frames[i], data.poses[i], double(i));
+        ASSERT_TRUE(maps.current() != nullptr);
+        // Never more than one frame past the budget.
+        EXPECT_LE(maps.current()->core().voxels().size(), budget + first_frame_voxels) << "frame " << i;
+    }
+    maps.finish();
+    EXPECT_GE(maps.budgetHandOvers(), 1u);
+    EXPECT_EQ(maps.index().size(), maps.budgetHandOvers() + 1);
+    uint64_t frames = 0;
+    for (const MapIndexEntry& e : maps.index())
+    {
+        frames += e.frames;
+        EXPECT_LE(e.voxels, budget + first_frame_voxels) << e.file;  // over by at most one frame
+        EXPECT_GT(e.frames, 0u) << e.file;
+        const auto loaded = loadMapArchive((fs::path(o.out_dir) / e.file).string());
+        EXPECT_EQ(loaded->core().voxels().size(), e.voxels) << e.file;
+    }
+    EXPECT_EQ(frames, data.frames.size());  // every frame in exactly one map (no warm-up: period 0)
+    fs::remove_all(o.out_dir);
+}

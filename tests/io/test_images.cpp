@@ -107,4 +107,61 @@ TEST_F(Images, LabelImages)
     EXPECT_INPUT_ERROR(readLabelImage(path("f.tiff")), "f.tiff", "32-bit float");
 }
 
+
+// Allocation limits (issue #23): a header claiming a huge image is refused before
+// OpenCV allocates or decodes anything, with a message naming the file and the size.
+namespace
+{
+std::string pngHeaderClaiming(uint32_t w, uint32_t h, uint8_t bit_depth, uint8_t colour_type)
+{
+    std::string b("\x89PNG\r\n\x1a\n", 8);
+    const auto be32 = [&](uint32_t v) {
+        for (int s = 24; s >= 0; s -= 8) b.push_back(char((v >> s) & 0xFF));
+    };
+    be32(13);
+    const size_t type_at = b.size();
+    b += "IHDR";
+    be32(w);
+    be32(h);
+    b += std::string{char(bit_depth), char(colour_type), 0, 0, 0};
+    be32(uint32_t(crc32(0, reinterpret_cast<const Bytef*>(b.data() + type_at), 17)));
+    return b;  // no IDAT: without the guard, libpng would still allocate the rows first
+}
+}  // namespace
+
+TEST_F(Images, HugeImageHeadersAreRefusedBeforeAllocating)
+{
+    EXPECT_INPUT_ERROR(readDepthImage(write("huge.png", pngHeaderClaiming(100000, 100000, 16, 0))), "huge.png",
+                       "claims 100000 x 100000 pixels", "refused before decoding");
+    EXPECT_INPUT_ERROR(readLabelImage(write("wide.png", pngHeaderClaiming(40000, 1, 8, 0))), "wide.png",
+                       "claims 40000 x 1 pixels");
+    EXPECT_INPUT_ERROR(readColorImage(write("big.png", pngHeaderClaiming(9000, 9000, 8, 2))), "big.png",
+                       "claims 9000 x 9000");
+    EXPECT_INPUT_ERROR(readDepthImage(write("huge.pgm", "P5\n# comment\n100000 100000\n65535\n")), "huge.pgm",
+                       "claims 100000 x 100000");
+    // JPEG: SOI, an APP0 segment, then SOF0 with height 30000, width 30000.
+    const std::string jpeg("\xFF\xD8\xFF\xE0\x00\x04JF\xFF\xC0\x00\x11\x08\x75\x30\x75\x30\x03", 19);
+    EXPECT_INPUT_ERROR(readColorImage(write("huge.jpg", jpeg)), "huge.jpg", "claims 30000 x 30000");
+    // At the limits the header passes (and the truncated file fails to decode instead).
+    EXPECT_INPUT_ERROR(readDepthImage(write("edge.png", pngHeaderClaiming(uint32_t(kMaxImageSide), 1, 16, 0))),
+                       "edge.png", "cannot decode");
+}
+
+TEST(ImageHeaderSize, PngJpegPnmAndOthers)
+{
+    const std::string png = pngHeaderClaiming(640, 480, 16, 0);
+    EXPECT_EQ(imageHeaderSize(reinterpret_cast<const uint8_t*>(png.data()), png.size()),
+              (std::array<int64_t, 2>{640, 480}));
+    const std::string pgm = "P2 # c\n 3 2\n";
+    EXPECT_EQ(imageHeaderSize(reinterpret_cast<const uint8_t*>(pgm.data()), pgm.size()),
+              (std::array<int64_t, 2>{3, 2}));
+    const std::string tiff = "II*\0";
+    EXPECT_EQ(imageHeaderSize(reinterpret_cast<const uint8_t*>(tiff.data()), tiff.size()),
+              (std::array<int64_t, 2>{-1, -1}));
+    EXPECT_EQ(imageHeaderSize(reinterpret_cast<const uint8_t*>(png.data()), 20), (std::array<int64_t, 2>{-1, -1}));
+    EXPECT_EQ(imageSizeProblem(8192, 8192), "");
+    EXPECT_EQ(imageSizeProblem(-1, -1), "");
+    EXPECT_NE(imageSizeProblem(kMaxImageSide + 1, 1), "");
+}
+
 }  // namespace pndt::io::test

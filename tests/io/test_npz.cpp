@@ -1,6 +1,8 @@
 // .npy / .npz readers (EMSANet predictions) and the id + score decoding.
 #include "io_test_util.h"
 
+#include <cstring>
+
 #include <pndt/io/npz.h>
 
 namespace pndt::io::test
@@ -106,6 +108,26 @@ TEST_F(Npz, MalformedArchivesNameTheFile)
     ZipMember bz{"arr_0.npy", npy123()};
     bz.method_override = 12;
     EXPECT_INPUT_ERROR(readNpzImage(write("bz.npz", makeZip({bz}))), "bz.npz", "compression method 12");
+}
+
+// Issue #23, found by fuzz_npz: a deflated member whose directory claims 2 GiB
+// (2130706433 bytes) from a few hundred compressed bytes was allocated before inflating.
+TEST_F(Npz, AnUncompressedSizeBeyondDeflatesRatioIsRefusedBeforeAllocating)
+{
+    ZipMember m{"arr_0.npy", npy123()};
+    m.deflate = true;
+    m.zip64_central = true;  // sizes as 64-bit fields in the central directory's extra field
+    std::string zip = makeZip({m});
+    const size_t central = zip.find("PK\x01\x02");
+    ASSERT_NE(central, std::string::npos);
+    std::string size_field(8, '\0');
+    const uint64_t real = m.data.size(), claim = 2130706433;
+    std::memcpy(size_field.data(), &real, 8);
+    const size_t at = zip.find(size_field, central);
+    ASSERT_NE(at, std::string::npos);
+    std::memcpy(&zip[at], &claim, 8);
+    EXPECT_INPUT_ERROR(readNpzImage(write("claims2g.npz", zip)), "claims2g.npz", "claims 2130706433 bytes",
+                       "deflate expands at most 1032:1");
 }
 
 TEST_F(Npz, MalformedNpyNameTheFileAndProblem)

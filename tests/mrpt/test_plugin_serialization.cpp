@@ -476,6 +476,68 @@ TEST(PluginSerialization, CorruptCountsAreRejectedBeforeAllocating)
     EXPECT_THROW(deserialize(bytes), std::exception);
 }
 
+// Issue #23, found by fuzz_map_archive: a class name's length field claiming 1.6 GB made
+// MRPT's string reader allocate it (libFuzzer: out-of-memory (malloc(1632632838))).
+TEST(PluginSerialization, AHugeClassNameLengthIsRefusedBeforeAllocating)
+{
+    const auto map = labelledMap();
+    auto bytes = serialize(*map);
+    const std::string& name = map->core().options().classes.classes().at(0).name;
+    std::string field(4, '\0');
+    const uint32_t len = uint32_t(name.size());
+    std::memcpy(field.data(), &len, 4);
+    field += name;
+    const std::string all(bytes.begin(), bytes.end());
+    const size_t at = all.find(field);
+    ASSERT_NE(at, std::string::npos);
+    const uint32_t huge = 1632632838u;
+    std::memcpy(&bytes[at], &huge, 4);
+    try
+    {
+        deserialize(bytes);
+        FAIL() << "no error";
+    }
+    catch (const std::exception& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("implausible class name length 1632632838"), std::string::npos)
+            << e.what();
+    }
+}
+
+// Issue #23 (allocation limits): 10^9 voxels is refused by the count check; a count under
+// the bound that the file does not back fails at the end of the data (read in chunks, never
+// allocated up front).
+TEST(PluginSerialization, AVoxelCountOfABillionIsRefusedAndUnbackedCountsFailAtTheEnd)
+{
+    const auto map = labelledMap();
+    const auto bytes = serialize(*map);
+    const uint64_t n = map->core().voxels().size();
+    std::string field(8, '\0');
+    std::memcpy(field.data(), &n, 8);
+    const std::string all(bytes.begin(), bytes.end());
+    bool refused = false, cut = false;
+    for (size_t at = all.find(field); at != std::string::npos; at = all.find(field, at + 1))
+    {
+        for (const uint64_t claim : {uint64_t(1000000000), uint64_t(1) << 27})
+        {
+            auto damaged = bytes;
+            std::memcpy(&damaged[at], &claim, 8);
+            try
+            {
+                deserialize(damaged);
+            }
+            catch (const std::exception& e)
+            {
+                const std::string what = e.what();
+                refused |= what.find("implausible voxel count 1000000000") != std::string::npos;
+                cut |= claim == (uint64_t(1) << 27) && what.find("unexpected end of data") != std::string::npos;
+            }
+        }
+    }
+    EXPECT_TRUE(refused);
+    EXPECT_TRUE(cut);
+}
+
 TEST(PluginFiles, ArchiveFileRoundTripAndForeignFiles)
 {
     const fs::path dir = tempDir();

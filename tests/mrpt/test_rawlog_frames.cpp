@@ -7,6 +7,8 @@
 
 #include <filesystem>
 
+#include "observation_fixtures.h"
+
 using namespace pndt;
 namespace fs = std::filesystem;
 
@@ -89,4 +91,28 @@ TEST(RawlogFrames, UncommittedWriterLeavesNothing)
     }
     EXPECT_TRUE(fs::is_empty(dir));
     fs::remove_all(dir);
+}
+
+// Issue #23, found by fuzz_rawlog: an id+score value beyond 32 bits (7.18e22) was converted
+// to uint32_t (undefined behaviour, UBSan: "outside the range of representable values").
+TEST(RawlogFrames, IdScoreValuesBeyond32BitsAreRejectedNamingThePixel)
+{
+    for (const float v : {7.18343e22f, 4294967296.f})
+    {
+        const auto scan = fixtures::wallScan(0);
+        PanopticFrame f;
+        depthFrameFrom(*scan, f);
+        const auto sem = fixtures::semanticImage(0);
+        const auto inst = fixtures::labelImage(0, "_PANOPTIC_INSTANCE", 1.5f, v);
+        try
+        {
+            attachPanopticLabels(*sem, *inst, f);
+            ADD_FAILURE() << "no error for " << v;
+        }
+        catch (const InputError& e)
+        {
+            EXPECT_NE(std::string(e.what()).find("invalid id+score value"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("row 0, col 0"), std::string::npos) << e.what();
+        }
+    }
 }

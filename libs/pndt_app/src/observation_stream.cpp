@@ -3,6 +3,7 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <opencv2/imgcodecs.hpp>
 #include <pndt/app/observation_stream.h>
+#include <pndt/io/images.h>
 
 #include "gz_file_input.h"
 
@@ -37,6 +38,13 @@ class ObservationStream::GuardedInput : public mrpt::io::CStream
         if (got < count && !(got == 0 && position_ == object_start_))
             throw std::runtime_error(fmt::format("the file ends {} bytes into the object", position_ - object_start_));
         const auto* bytes = static_cast<const uint8_t*>(buffer);
+        if (count == last_length_ && count >= 2 && count <= size_t(INT32_MAX) && bytes[0] == 0xFF && bytes[1] == 0xD8)
+        {
+            // MRPT decodes the image at full size: a header claiming a huge one is refused first.
+            const auto wh = pndt::io::imageHeaderSize(bytes, count);
+            if (const std::string problem = pndt::io::imageSizeProblem(wh[0], wh[1]); !problem.empty())
+                throw std::runtime_error(fmt::format("a colour image's JPEG header is implausible: {}", problem));
+        }
         if (count == last_length_ && count >= 2 && count <= size_t(INT32_MAX) && bytes[0] == 0xFF && bytes[1] == 0xD8 &&
             !decodes(bytes, count))
             throw std::runtime_error(

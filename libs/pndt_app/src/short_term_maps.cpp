@@ -16,7 +16,13 @@ ShortTermMaps::ShortTermMaps(Factory make_map, ShortTermOptions options)
 {
     if (options_.period < 0) throw std::invalid_argument("short-term map period must be >= 0");
     if (options_.warmup < 0 || options_.warmup >= 1) throw std::invalid_argument("warm-up must be in [0, 1)");
-    if (options_.write_files) std::filesystem::create_directories(options_.out_dir);
+    if (options_.write_files)
+    {
+        std::error_code ec;
+        std::filesystem::create_directories(options_.out_dir, ec);
+        if (ec)
+            throw io::WriteError(fmt::format("cannot create the output folder '{}': {}", options_.out_dir, ec.message()));
+    }
     if (options_.write_files && options_.write_rawlog)
         rawlog_ = std::make_unique<MapRawlogWriter>(MapRawlogOptions{
             (std::filesystem::path(options_.out_dir) / "maps.rawlog").string(), options_.rawlog_label});
@@ -60,6 +66,17 @@ void ShortTermMaps::integrate(const PanopticFrame& f, const Pose& T, double t)
         next_ = Slot{};
         // Periods stay on a fixed grid even when frames are sparse.
         while (now >= period_start_ + P) period_start_ += P;
+    }
+    if (options_.max_voxels > 0 && current_.map && current_.map->core().voxels().size() >= options_.max_voxels)
+    {
+        // Size budget reached: written early, the next map takes over with this frame
+        // (so no map is ever empty; the period grid stays).
+        write(current_);
+        if (!next_.map) startSuccessor(t);
+        if (options_.stable_ids) carryInstanceIds(current_.map->core(), next_.map->core());
+        current_ = std::move(next_);
+        next_ = Slot{};
+        ++budget_hand_overs_;
     }
     feed(current_, f, T, t);
     if (P > 0 && now >= period_start_ + P * (1.0 - options_.warmup))
@@ -123,11 +140,7 @@ void ShortTermMaps::write(const Slot& s)
             saveArchive(*map, (dir / file).string());
             if (write_ply) writePly(*map, (dir / ply).string());
             // Listed only once its files are complete.
-            io::writeFileAtomically((dir / "index.json").string(), [&](const std::string& tmp) {
-                std::ofstream f(tmp);
-                f << index << "\n";
-                if (!f) throw std::runtime_error("cannot write " + tmp);
-            });
+            io::writeFileAtomically((dir / "index.json").string(), index + "\n");  // checked writes, errno named
         });
     }
     seconds_writing_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

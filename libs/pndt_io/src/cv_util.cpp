@@ -4,12 +4,84 @@
 
 #include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
+#include <pndt/io/images.h>
+
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+
+namespace pndt::io
+{
+namespace
+{
+uint32_t be16(const uint8_t* p) { return uint32_t(p[0]) << 8 | p[1]; }
+uint32_t be32(const uint8_t* p) { return be16(p) << 16 | be16(p + 2); }
+}  // namespace
+
+std::array<int64_t, 2> imageHeaderSize(const uint8_t* b, size_t n)
+{
+    static const uint8_t kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+    if (n >= 24 && std::equal(kPng, kPng + 8, b) && std::equal(b + 12, b + 16, "IHDR"))
+        return {be32(b + 16), be32(b + 20)};
+    if (n >= 4 && b[0] == 0xFF && b[1] == 0xD8)  // JPEG: walk the marker segments to a SOFn
+    {
+        size_t p = 2;
+        while (p + 4 <= n && b[p] == 0xFF)
+        {
+            const uint8_t marker = b[p + 1];
+            if (marker == 0xFF) { ++p; continue; }  // fill byte
+            const size_t len = be16(b + p + 2);
+            const bool sof = marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC;
+            if (sof) return p + 9 <= n ? std::array<int64_t, 2>{be16(b + p + 7), be16(b + p + 5)}
+                                       : std::array<int64_t, 2>{-1, -1};
+            if (len < 2) break;
+            p += 2 + len;
+        }
+        return {-1, -1};
+    }
+    if (n >= 3 && b[0] == 'P' && b[1] >= '1' && b[1] <= '6')  // PNM: "P5 <w> <h> ..." with # comments
+    {
+        int64_t v[2] = {-1, -1};
+        size_t p = 2;
+        for (int k = 0; k < 2; ++k)
+        {
+            while (p < n && (std::isspace(b[p]) || b[p] == '#'))
+                if (b[p] == '#')
+                    while (p < n && b[p] != '\n') ++p;
+                else
+                    ++p;
+            if (p >= n || !std::isdigit(b[p])) return {-1, -1};
+            v[k] = 0;
+            while (p < n && std::isdigit(b[p]) && v[k] < (int64_t(1) << 40)) v[k] = v[k] * 10 + (b[p++] - '0');
+        }
+        return {v[0], v[1]};
+    }
+    return {-1, -1};
+}
+
+std::string imageSizeProblem(int64_t w, int64_t h)
+{
+    if (w < 0 || h < 0) return {};
+    if (w > kMaxImageSide || h > kMaxImageSide || w * h > kMaxImagePixels)
+        return fmt::format("the image header claims {} x {} pixels, more than a reader accepts ({} per side, {} in "
+                           "all); refused before decoding",
+                           w, h, kMaxImageSide, kMaxImagePixels);
+    return {};
+}
+}  // namespace pndt::io
 
 namespace pndt::io::detail
 {
 cv::Mat readImageUnchanged(const std::string& path)
 {
     requireRegularFile(path);
+    {
+        uint8_t head[4096];
+        std::ifstream f(path, std::ios::binary);
+        f.read(reinterpret_cast<char*>(head), sizeof head);
+        const auto wh = imageHeaderSize(head, size_t(f.gcount()));
+        if (const std::string problem = imageSizeProblem(wh[0], wh[1]); !problem.empty()) failFile(path, problem);
+    }
     cv::Mat m;
     try
     {

@@ -18,6 +18,7 @@ constexpr uint32_t kSigEocd = 0x06054b50;
 constexpr uint32_t kSigZip64Eocd = 0x06064b50;
 constexpr uint32_t kSigZip64Locator = 0x07064b50;
 constexpr uint64_t kMaxEntryBytes = uint64_t{1} << 31;  // 2 GiB: far beyond any prediction image
+constexpr uint64_t kMaxDeflateRatio = 1032;  // deflate's largest expansion (258-byte matches in 2 bits)
 
 /// Bounds-checked little-endian reader over the file bytes.
 struct Reader
@@ -175,6 +176,12 @@ std::string ZipArchive::extract(const ZipEntry& e) const
     }
     else if (e.method == 8)
     {
+        // Deflate expands at most 1032:1, so a size beyond that is a lie: refused before the
+        // buffer is allocated (found by fuzz_npz: a 2 GiB claim from a few hundred bytes).
+        if (e.uncompressed_size > e.compressed_size * kMaxDeflateRatio + 1024)
+            rd.bad(fmt::format("entry '{}' claims {} bytes from {} compressed bytes (deflate expands at most "
+                               "{}:1)",
+                               e.name, e.uncompressed_size, e.compressed_size, kMaxDeflateRatio));
         out.resize(e.uncompressed_size);
         z_stream zs{};
         if (inflateInit2(&zs, -MAX_WBITS) != Z_OK) rd.bad("zlib initialisation failed");

@@ -39,6 +39,7 @@
 #include <pndt/mrpt/PanopticNDTMap.h>
 
 #include <cmath>
+#include <algorithm>
 #include <cstring>
 
 using mrpt::serialization::CArchive;
@@ -48,8 +49,11 @@ namespace pndt
 namespace
 {
 constexpr uint32_t kMagic = 0x54444E50;  // "PNDT"
-// Bounds against garbage counts: refuse before allocating.
-constexpr uint64_t kMaxVoxels = 1ull << 31;
+// Bounds against garbage counts: refuse before allocating. 2^28 voxels would be a map of
+// tens of GB; a file claiming more is damaged (doc/hardening.md). Counts below the bound
+// are still only allocated as their bytes arrive (readArray).
+constexpr uint64_t kMaxVoxels = 1ull << 28;
+constexpr uint32_t kMaxNameLength = 4096;  ///< class names, label suffixes
 
 void writeOptions(CArchive& a, const MapOptions& o)
 {
@@ -69,6 +73,19 @@ void writeOptions(CArchive& a, const MapOptions& o)
     a << uint8_t(o.max_range_along == RangeKind::Ray ? 1 : 0);
 }
 
+/// A std::string as MRPT writes it (u32 length, bytes), read with a bound on the length:
+/// MRPT's own reader allocates and zero-fills whatever length the file claims (found by
+/// fuzz_map_archive: "out-of-memory (malloc(1632632838))").
+std::string readString(CArchive& a, const char* what)
+{
+    uint32_t len = 0;
+    a >> len;
+    if (len > kMaxNameLength) throw std::runtime_error(fmt::format("implausible {} length {}", what, len));
+    std::string s(len, '\0');
+    if (len && a.ReadBuffer(s.data(), len) != len) throw std::runtime_error("unexpected end of data");
+    return s;
+}
+
 MapOptions readOptions(CArchive& a, uint8_t version)
 {
     MapOptions o;
@@ -84,7 +101,11 @@ MapOptions readOptions(CArchive& a, uint8_t version)
     a >> n;
     if (n == 0 || n > 255) throw std::runtime_error(fmt::format("class set of {} classes", n));
     std::vector<ClassSet::Class> classes(n);
-    for (auto& c : classes) a >> c.name >> c.is_thing;
+    for (auto& c : classes)
+    {
+        c.name = readString(a, "class name");
+        a >> c.is_thing;
+    }
     o.classes = ClassSet(std::move(classes));
     // Older maps keep the rules they were built with (see the top of this file).
     if (version >= 2)
@@ -129,8 +150,19 @@ void writeArray(CArchive& a, const std::vector<T>& v)
 template <typename T>
 void readArray(CArchive& a, std::vector<T>& v, size_t n)
 {
-    v.resize(n);
-    if (n && a.ReadBufferFixEndianness(v.data(), n) != n * sizeof(T)) throw std::runtime_error("unexpected end of data");
+    // Grown as the bytes arrive (4 MiB at a time): a count the file does not back fails at
+    // the end of the data having allocated no more than the file holds plus one chunk.
+    constexpr size_t kChunk = std::max<size_t>(1, (size_t(4) << 20) / sizeof(T));
+    v.clear();
+    v.reserve(std::min(n, kChunk));
+    for (size_t done = 0; done < n;)
+    {
+        const size_t k = std::min(kChunk, n - done);
+        v.resize(done + k);
+        if (a.ReadBufferFixEndianness(v.data() + done, k) != k * sizeof(T))
+            throw std::runtime_error("unexpected end of data");
+        done += k;
+    }
 }
 /// Entries in use of a stored histogram of `capacity` whose count is `size`:
 /// ids before it must be set (0 marks a free entry), those after it are ignored.
@@ -331,7 +363,10 @@ void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
                 MapOptions o = readOptions(in, version);
                 InsertionOptions io;
                 uint64_t max_buf = 0;
-                in >> io.label_pairing_tolerance >> io.semantic_suffix >> io.instance_suffix >> max_buf;
+                in >> io.label_pairing_tolerance;
+                io.semantic_suffix = readString(in, "label suffix");
+                io.instance_suffix = readString(in, "label suffix");
+                in >> max_buf;
                 io.max_buffered_labels = size_t(max_buf);
                 RenderOptions ro;
                 uint8_t mode = 0, shape = 0;
@@ -349,11 +384,11 @@ void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
                 stage = "voxels";
                 const size_t n = readCount(in, "voxel", kMaxVoxels);
                 std::vector<uint64_t> keys;
-                std::vector<Voxel> voxels(n);
                 std::vector<SurfaceRecord> surfaces;
                 readArray(in, keys, n);
                 std::vector<float> occ;
                 readArray(in, occ, n);
+                std::vector<Voxel> voxels(n);  // once the file has backed the count
                 for (size_t i = 0; i < n; ++i) voxels[i].occ = occ[i];
                 if (version == 0)
                 {

@@ -1,13 +1,17 @@
 #include <fmt/format.h>
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/io/CMemoryStream.h>
 #include <mrpt/serialization/CArchive.h>
 #include <pndt/instance_numbering.h>
 #include <pndt/mrpt/map_files.h>
 #include <pndt/mrpt/voxel_colors.h>
 #include <unistd.h>
+#include <zlib.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -16,13 +20,40 @@ namespace pndt
 {
 void saveArchive(const mrpt::serialization::CSerializable& obj, const std::string& path)
 {
-    io::writeFileAtomically(path, [&](const std::string& tmp) {
-        mrpt::io::CFileGZOutputStream f;
-        if (!f.open(tmp)) throw std::runtime_error(fmt::format("cannot write {}", tmp));
-        auto a = mrpt::serialization::archiveFrom(f);
+    // Serialised and compressed in memory, then written with checked write()s: MRPT's gzip
+    // stream ignores the result of gzclose(), so a full disk could leave a truncated archive
+    // that would still be renamed into place (and listed in index.json).
+    mrpt::io::CMemoryStream mem;
+    {
+        auto a = mrpt::serialization::archiveFrom(mem);
         a << obj;
-        f.close();
-    });
+    }
+    // gzip (level 1, as MRPT's gzip stream writes) straight from the serialised bytes.
+    z_stream z{};
+    if (deflateInit2(&z, 1, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
+        throw io::WriteError(fmt::format("cannot write '{}': gzip initialisation failed", path));
+    const uint64_t n_in = mem.getTotalBytesCount();
+    std::vector<uint8_t> gz(size_t(deflateBound(&z, uLong(n_in)) + 64));
+    auto* in = static_cast<Bytef*>(mem.getRawBufferData());
+    uint64_t in_left = n_in;
+    z.next_out = gz.data();
+    z.avail_out = uInt(std::min<size_t>(gz.size(), UINT32_MAX));
+    int rc = Z_OK;
+    while (rc == Z_OK)  // chunks of < 4 GiB (zlib counts in 32 bits)
+    {
+        if (z.avail_in == 0 && in_left > 0)
+        {
+            z.next_in = in + (n_in - in_left);
+            z.avail_in = uInt(std::min<uint64_t>(in_left, 1u << 30));
+            in_left -= z.avail_in;
+        }
+        if (z.avail_out == 0) break;
+        rc = deflate(&z, in_left == 0 ? Z_FINISH : Z_NO_FLUSH);
+    }
+    gz.resize(size_t(z.next_out - gz.data()));
+    deflateEnd(&z);
+    if (rc != Z_STREAM_END) throw io::WriteError(fmt::format("cannot write '{}': gzip compression failed", path));
+    io::writeFileAtomically(path, std::string_view(reinterpret_cast<const char*>(gz.data()), gz.size()));
 }
 
 PanopticNDTMap::Ptr loadMapArchive(const std::string& path)
@@ -58,7 +89,7 @@ void writePly(const PanopticNDTMap& m, const std::string& path, ColorMode colors
         if (map.isOccupied(store[i])) occupied.push_back(i);
     io::writeFileAtomically(path, [&](const std::string& tmp) {
         std::ofstream f(tmp, std::ios::binary);
-        if (!f) throw std::runtime_error(fmt::format("cannot write {}", tmp));
+        if (!f) throw io::WriteError(fmt::format("cannot write '{}': cannot open '{}'", path, tmp));
         f << "ply\nformat binary_little_endian 1.0\ncomment PanopticNDT map, voxel "
           << map.options().voxel_size
           << " m\ncomment label = semantic << 16 | n, n = the instance's rank among the map's instance ids "
@@ -88,7 +119,7 @@ void writePly(const PanopticNDTMap& m, const std::string& path, ColorMode colors
             f.write(reinterpret_cast<const char*>(&prob), sizeof(prob));
         }
         f.close();
-        if (!f) throw std::runtime_error(fmt::format("write error on {}", tmp));
+        if (!f) throw io::WriteError(fmt::format("cannot write '{}': write error (disk full?)", path));
     });
 }
 

@@ -101,7 +101,8 @@ void decodeIdScore(const mrpt::obs::CObservationImage& obs, int W, int H, Image<
         for (int c = 0; c < W; ++c)
         {
             const float v = row[c];
-            if (!std::isfinite(v) || v < 0.f)
+            // (ids are 32-bit: a larger value would overflow the conversion below)
+            if (!std::isfinite(v) || v < 0.f || v >= 4294967296.f)
                 throw InputError(fmt::format("{}: invalid id+score value {} at pixel (row {}, col {})", who, v, r, c));
             const float id = std::floor(v);
             ids.at(r, c) = uint32_t(id);

@@ -29,6 +29,10 @@ struct ShortTermOptions
     /// frame's time, to <out_dir>/maps.rawlog (map_rawlog.h; needs write_files).
     bool write_rawlog = false;
     std::string rawlog_label = "PANOPTIC_MAP";  ///< sensorLabel of the maps in maps.rawlog
+    /// Size budget of one map in voxels (0 = none): a map that reaches it after a frame is
+    /// finalised and written early and the next short-term map takes over (the successor if
+    /// one is warming up, else a new map), so a long run never grows one map without bound.
+    uint64_t max_voxels = 0;
 };
 
 /// One written map, as listed in index.json.
@@ -72,6 +76,8 @@ class ShortTermMaps
     /// The maps.rawlog writer (write_rawlog), e.g. to interleave input observations
     /// with addInput(); nullptr when off.
     MapRawlogWriter* rawlog() const { return rawlog_.get(); }
+    /// Hand-overs forced by ShortTermOptions::max_voxels (not by the period).
+    uint64_t budgetHandOvers() const { return budget_hand_overs_; }
 
     /// Maps the successor's instance ids to its predecessor's by voxel overlap:
     /// a successor instance takes the predecessor instance that holds most of its
@@ -98,6 +104,7 @@ class ShortTermMaps
     Slot current_, next_;
     double period_start_ = 0;  ///< clock value at which the current period began
     uint64_t frames_ = 0;
+    uint64_t budget_hand_overs_ = 0;
     bool finished_ = false;
     std::vector<MapIndexEntry> index_;
     FrameStats totals_;

@@ -17,6 +17,18 @@ using RgbImage = Image<std::array<uint8_t, 3>>;
 inline constexpr double kDepthUnitsMillimetre = 1000.0;  ///< Redwood, ScanNet, Hypersim (nicr)
 inline constexpr double kDepthUnitsTum = 5000.0;         ///< TUM RGB-D
 
+/// Allocation limits of every image reader (depth, colour, label, and the rawlog colour-image
+/// guard): a file whose header claims more is refused before anything is decoded or allocated
+/// (InputError naming the file and the claimed size). 8192 x 8192 pixels = 128 MiB at 16 bit.
+inline constexpr int64_t kMaxImageSide = 32768;
+inline constexpr int64_t kMaxImagePixels = int64_t(1) << 26;
+
+/// Width and height claimed by the header of PNG, JPEG (SOF marker) or binary/ASCII PNM bytes;
+/// {-1, -1} for other formats or a header too short to tell (the decoder then has the word).
+std::array<int64_t, 2> imageHeaderSize(const uint8_t* bytes, size_t size);
+/// Empty when `width` x `height` is within the limits above, else why not.
+std::string imageSizeProblem(int64_t width, int64_t height);
+
 /// 16-bit single-channel PNG (or any 16-bit single-channel format OpenCV decodes) → metres:
 /// metres = raw / units_per_metre; raw 0 → 0 (invalid). Throws on 8-bit, multi-channel or float
 /// images and on units_per_metre <= 0.
