@@ -64,6 +64,7 @@ int main(int argc, char** argv)
     std::string intrinsics, out_dir = "out/live", model, up, record, pose_format = "rtabmap11", pose_frame,
                                   pose_file, stamps = "device";
     int pose_tcp = -1, pose_udp = -1;
+    double label_wait = 0.25;
     double clock_offset = 0, pose_wait = 0.5, seconds = 0, period = -1, voxel_size = 0, grab_timeout = 3.0;
     uint64_t max_frames = 0;
     std::vector<std::string> presets, configs, sets;
@@ -94,6 +95,9 @@ int main(int argc, char** argv)
         ->check(CLI::IsMember({"device", "host"}))
         ->capture_default_str();
     app.add_option("--grab-timeout", grab_timeout, "seconds without a frame after which the camera counts as lost")
+        ->capture_default_str();
+    app.add_option("--label-wait", label_wait, "seconds the mapper waits for a frame's labels before mapping it "
+                                               "geometry-only")
         ->capture_default_str();
     app.add_option("--model", model, "segmentation model description (JSON); without it the map is geometry-only");
     app.add_option("--up", up, "gravity up in the poses' world frame, 'x y z' (segmentation)");
@@ -201,6 +205,7 @@ int main(int argc, char** argv)
         lo.max_frames = max_frames;
         lo.record = record;
         lo.grab_timeout = grab_timeout;
+        lo.label_wait = label_wait;
         LivePipeline pipeline(*grabber, segmenter.get(), poses, maps, prototype->insertionOptions, lo);
 
         fmt::print("pndt-live: {}\n", capture.describe());
@@ -220,7 +225,8 @@ int main(int argc, char** argv)
             fmt::print("[{:6.1f} s] capture {:5.1f} fps | segmentation {:5.1f} fps, labelled {:3.0f}%, dropped {} | "
                        "mapping {:5.1f} fps | pose waits {} skipped, no pose {} | poses {} ({} connected)\n",
                        t, (s.captured - last_cap) / dt, (s.segmented - last_seg) / dt,
-                       s.captured ? 100.0 * s.labelled / s.captured : 0.0, s.seg_dropped, (s.mapped - last_map) / dt,
+                       s.captured ? 100.0 * s.labelled / s.captured : 0.0, s.seg_dropped + s.label_late,
+                       (s.mapped - last_map) / dt,
                        s.pose_wait_skipped, s.no_pose_skipped, poses.received(), poses.open_connections.load());
             std::fflush(stdout);
             last_cap = s.captured, last_seg = s.segmented, last_map = s.mapped, last_t = t;
@@ -236,8 +242,9 @@ int main(int argc, char** argv)
         fmt::print("frames skipped     : {} waited {:.2f} s for a pose in vain, {} without a pose within {} s, {} "
                    "dropped because mapping was behind\n",
                    s.pose_wait_skipped, pose_wait, s.no_pose_skipped, settings.pose_max_gap, s.mapping_dropped);
-        fmt::print("segmentation       : {} frames labelled, {} went on unlabelled (segmentation behind), {} errors\n",
-                   s.labelled, s.seg_dropped, s.seg_errors);
+        fmt::print("segmentation       : {} frames labelled, {} went on unlabelled (segmentation behind), {} labels "
+                   "too late for the mapper (> {} s), {} errors\n",
+                   s.labelled, s.seg_dropped, s.label_late, label_wait, s.seg_errors);
         fmt::print("poses              : {} received, {} out of order dropped, {} bad lines, {} connections\n",
                    poses.received(), poses.droppedOutOfOrder(), poses.bad_lines.load(), poses.connections.load());
         fmt::print("maps written       : {} in {} (index.json)\n", maps.index().size(), out_dir);

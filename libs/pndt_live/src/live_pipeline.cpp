@@ -4,6 +4,8 @@
 #include <pndt/mrpt/observation_frame.h>
 #include <pndt/mrpt/rawlog_frames.h>
 
+#include <opencv2/core/utility.hpp>
+
 #include <chrono>
 #include <condition_variable>
 #include <deque>
@@ -95,6 +97,7 @@ struct LivePipeline::Item
     double t = 0;
     mrpt::obs::CObservationImage::Ptr semantic, instance;  ///< null: geometry only
     bool ready = false;                                      ///< segmentation done or given up
+    bool abandoned = false;  ///< the mapper went on without this frame's labels
 };
 
 struct LivePipeline::Queues
@@ -161,7 +164,10 @@ void LivePipeline::captureLoop(const std::atomic<bool>& stop)
                 {
                     q_->to_segment.front()->ready = true;  // goes on unlabelled: geometry only
                     q_->to_segment.pop_front();
-                    ++stats_.seg_dropped;
+                    if (stats_.seg_dropped++ == 0)
+                        fmt::print(stderr,
+                                   "\npndt-live: the segmentation is behind the camera: the oldest waiting frame goes "
+                                   "on unlabelled and is mapped geometry-only (counted as dropped)\n");
                 }
             }
             else
@@ -189,8 +195,10 @@ void LivePipeline::segmentationLoop()
             if (q_->to_segment.empty()) break;
             it = q_->to_segment.front();
             q_->to_segment.pop_front();
+            if (it->abandoned) continue;  // already mapped geometry-only
         }
         const auto& scan = *it->frame.scan;
+        mrpt::obs::CObservationImage::Ptr sem, inst;
         try
         {
             depthFrameFrom(scan, frame);
@@ -209,20 +217,24 @@ void LivePipeline::segmentationLoop()
             }
             in.source = describeObservation(scan);
             segmenter_->segment(in, frame);
-            auto sem = std::make_shared<mrpt::obs::CObservationImage>();
-            auto inst = std::make_shared<mrpt::obs::CObservationImage>();
+            sem = std::make_shared<mrpt::obs::CObservationImage>();
+            inst = std::make_shared<mrpt::obs::CObservationImage>();
             labelImagesFrom(frame, scan.sensorLabel, scan.timestamp, *sem, *inst);
-            it->semantic = std::move(sem);
-            it->instance = std::move(inst);
-            ++stats_.labelled;
         }
         catch (const std::exception& e)
         {
+            sem.reset();
             if (stats_.seg_errors++ < 3) fmt::print(stderr, "\npndt-live: segmentation failed: {}\n", e.what());
         }
         ++stats_.segmented;
         {
             std::lock_guard<std::mutex> lk(q_->m);
+            if (sem && !it->abandoned)
+            {
+                it->semantic = std::move(sem);
+                it->instance = std::move(inst);
+                ++stats_.labelled;
+            }
             it->ready = true;
         }
         q_->cv.notify_all();
@@ -239,9 +251,17 @@ void LivePipeline::mapItem(Item& it, std::vector<PairedFrame>& done)
     // Never mapped with a stale pose: wait (bounded) for a pose at or after the frame.
     if (!poses_.waitFor(it.t, o_.pose_wait))
     {
+        if (!pose_gap_reported_)
+            fmt::print(stderr,
+                       "\npndt-live: no pose at or after t={:.3f} s within {} s (newest pose t={:.3f} s, {} localiser "
+                       "connection(s)): frames are skipped and counted until poses come again\n",
+                       it.t, o_.pose_wait, poses_.latest(), poses_.open_connections.load());
+        pose_gap_reported_ = true;
         ++stats_.pose_wait_skipped;
         return;
     }
+    if (pose_gap_reported_) fmt::print(stderr, "\npndt-live: poses again at t={:.3f} s\n", it.t);
+    pose_gap_reported_ = false;
     for (auto& p : poses_.take())
     {
         if (q_->recorder) q_->recorder->push(p);
@@ -286,9 +306,22 @@ void LivePipeline::mappingLoop()
             std::shared_ptr<Item> it;
             {
                 std::unique_lock<std::mutex> lk(q_->m);
-                q_->cv.wait(lk, [&] {
+                const auto waitable = [&] {
                     return (!q_->to_map.empty() && q_->to_map.front()->ready) || (q_->to_map.empty() && q_->capture_done);
-                });
+                };
+                q_->cv.wait(lk, [&] { return waitable() || !q_->to_map.empty(); });
+                if (!waitable() &&
+                    !q_->cv.wait_for(lk, std::chrono::duration<double>(o_.label_wait), waitable))
+                {
+                    // The segmentation is still on this frame: map it geometry-only now.
+                    auto& head = *q_->to_map.front();
+                    head.abandoned = head.ready = true;
+                    if (stats_.label_late++ == 0)
+                        fmt::print(stderr,
+                                   "\npndt-live: the segmentation is slower than the camera: frames it cannot label "
+                                   "within {} s are mapped geometry-only (counted)\n",
+                                   o_.label_wait);
+                }
                 if (q_->to_map.empty()) break;
                 it = q_->to_map.front();
                 q_->to_map.pop_front();
@@ -311,6 +344,9 @@ void LivePipeline::run(const std::atomic<bool>& stop,
                        const std::function<void(const LiveStats&, double)>& status)
 {
     std::atomic<bool> capture_stop{false};
+    // One core for the network, the other for mapping (OpenCV would take both and starve the
+    // mapper, which then falls behind the camera).
+    if (segmenter_ && o_.segmentation_threads > 0) cv::setNumThreads(o_.segmentation_threads);
     std::thread seg, map([this] { mappingLoop(); });
     if (segmenter_) seg = std::thread([this] { segmentationLoop(); });
     std::thread capture([&] { captureLoop(capture_stop); });

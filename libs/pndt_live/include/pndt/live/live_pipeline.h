@@ -46,6 +46,10 @@ struct LiveOptions
     mrpt::poses::CPose3D camera_pose;  ///< robot -> camera (the scans' sensorPose)
     size_t segmentation_queue = 2; ///< frames waiting for the segmentation before the oldest goes on unlabelled
     size_t mapping_queue = 90;     ///< frames waiting for the mapper before capture drops new ones
+    /// Seconds the mapper waits for the labels of the frame it is at (the segmentation is
+    /// working on it); then the frame is mapped geometry-only and its late labels are dropped.
+    double label_wait = 0.25;
+    int segmentation_threads = 1;  ///< OpenCV threads of the segmentation (0 = OpenCV's default)
     double grab_timeout = 3.0;     ///< seconds without a frame = camera lost
     uint64_t max_frames = 0;       ///< stop after this many captured frames (0 = until stopped)
     std::string record;            ///< rawlog of what was seen (empty = none)
@@ -55,7 +59,7 @@ struct LiveOptions
 struct LiveStats
 {
     std::atomic<uint64_t> captured{0}, segmented{0}, labelled{0}, seg_dropped{0}, mapping_dropped{0}, mapped{0},
-        pose_wait_skipped{0}, no_pose_skipped{0}, recorded_frames{0}, seg_errors{0};
+        pose_wait_skipped{0}, no_pose_skipped{0}, recorded_frames{0}, seg_errors{0}, label_late{0};
     std::atomic<bool> camera_lost{false}, camera_unplugged{false};
     std::string camera_error;  ///< set once before camera_lost
 };
@@ -96,6 +100,7 @@ class LivePipeline
     LiveOptions o_;
     LiveStats stats_;
     std::optional<PairedFrame> last_;
+    bool pose_gap_reported_ = false;
     std::unique_ptr<Queues> q_;
 };
 
