@@ -125,8 +125,12 @@ TEST_F(LiveCli, CameraUnpluggedMidRunWritesTheMapAndExitsWithCode4)
 {
     camera("unplug_after = 30\n");
     EXPECT_EQ(live("--grab-timeout 2"), 4) << out << err;
-    EXPECT_NE(err.find("camera lost: the camera was disconnected after 30 frames"), std::string::npos) << err;
-    EXPECT_EQ(number(out, R"(frames mapped\s+: (\d+))"), 30u);
+    // The device sends 30 frames; OpenNI2 keeps only a stream's newest frame, so a reader that
+    // was late (a loaded machine) may have missed one: every frame read is mapped.
+    const uint64_t got = number(err, R"(camera lost: the camera was disconnected after (\d+) frames)");
+    EXPECT_LE(got, 30u);
+    EXPECT_GE(got, 25u);
+    EXPECT_EQ(number(out, R"(frames mapped\s+: (\d+))"), got);
     EXPECT_TRUE(fs::exists(dir / "live" / "index.json"));
     EXPECT_TRUE(fs::exists(dir / "live" / "map_0000.pndt.gz"));
 }

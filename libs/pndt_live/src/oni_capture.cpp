@@ -201,14 +201,20 @@ std::optional<CapturedFrame> OniCapture::grab(double timeout_s)
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
     while (!depth.isValid())
     {
-        if (d.listener.gone) return std::nullopt;
-        const int left_ms = int(std::chrono::duration<double, std::milli>(deadline - std::chrono::steady_clock::now()).count());
+        // After a disconnect, frames already delivered are still read (a short grace period).
+        const bool gone = d.listener.gone;
+        const int left_ms = gone ? 50
+                                 : int(std::chrono::duration<double, std::milli>(deadline - std::chrono::steady_clock::now())
+                                           .count());
         if (left_ms <= 0) return std::nullopt;
         openni::VideoStream* streams[2] = {&d.depth, &d.color};
         int ready = -1;
         if (openni::OpenNI::waitForAnyStream(streams, d.o.color ? 2 : 1, &ready, std::min(left_ms, 100)) !=
             openni::STATUS_OK)
+        {
+            if (gone) return std::nullopt;
             continue;
+        }
         if (ready == 0)
             d.depth.readFrame(&depth);
         else if (ready == 1 && d.color.readFrame(&d.last_color) == openni::STATUS_OK)
