@@ -253,9 +253,11 @@ void LivePipeline::mapItem(Item& it, std::vector<PairedFrame>& done)
     {
         if (!pose_gap_reported_)
             fmt::print(stderr,
-                       "\npndt-live: no pose at or after t={:.3f} s within {} s (newest pose t={:.3f} s, {} localiser "
+                       "\npndt-live: no pose at or after t={:.3f} s within {} s (newest pose: {}, {} localiser "
                        "connection(s)): frames are skipped and counted until poses come again\n",
-                       it.t, o_.pose_wait, poses_.latest(), poses_.open_connections.load());
+                       it.t, o_.pose_wait,
+                       poses_.received() ? fmt::format("t={:.3f} s", poses_.latest()) : std::string("none yet"),
+                       poses_.open_connections.load());
         pose_gap_reported_ = true;
         ++stats_.pose_wait_skipped;
         return;
