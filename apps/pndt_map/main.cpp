@@ -11,6 +11,7 @@
 #include <pndt/app/map_rawlog.h>
 #include <pndt/app/map_outputs.h>
 #include <pndt/app/observation_stream.h>
+#include <pndt/app/pose_refinement.h>
 #include <pndt/app/pose_track.h>
 #include <pndt/app/progress_bar.h>
 #include <pndt/app/read_ahead_stream.h>
@@ -131,6 +132,12 @@ int main(int argc, char** argv)
     app.add_option("--max-voxels", max_voxels,
                    "size budget of one map in voxels: a map reaching it is written and a new one started (0 = none)");
     app.add_flag("--no-progress", no_progress, "no progress bar");
+    bool refine_poses = false;
+    std::vector<std::string> refine_options;
+    app.add_flag("--refine", refine_poses,
+                 "register each frame to the current map before integrating it (NDT + Ceres, doc/refinement.md); "
+                 "writes refined_poses.tum");
+    app.add_option("--refine-option", refine_options, "refinement option key=value (repeatable; implies --refine)");
     bool no_maps_rawlog = false, rawlog_inputs = false;
     app.add_flag("--no-maps-rawlog", no_maps_rawlog, "do not write maps.rawlog (config maps_rawlog)");
     app.add_flag("--rawlog-inputs", rawlog_inputs,
@@ -197,6 +204,14 @@ int main(int argc, char** argv)
 
         // ---- replay
         ShortTermMaps maps(factory, settings.short_term);
+        std::optional<FramePoseRefinement> refinement;  // issue #22: against the localiser's errors
+        if (refine_poses || !refine_options.empty())
+        {
+            refine::RefineOptions ro;
+            ro.enabled = true;
+            for (const auto& kv : refine_options) setRefineOption(ro, kv);
+            refinement.emplace(ro);
+        }
         ObservationPairer pairer;
         pairer.options = prototype->insertionOptions;
         std::optional<ReadAheadStream> stream;  // decoding overlaps with mapping
@@ -213,6 +228,9 @@ int main(int argc, char** argv)
             for (PairedFrame& p : done)
             {
                 const uint64_t budget_before = maps.budgetHandOvers();
+                if (refinement)
+                    p.T_world_cam = refinement->refine(maps.current() ? &maps.current()->core() : nullptr, p.frame,
+                                                       p.T_world_cam, mrpt::Clock::toDouble(p.stamp));
                 maps.integrate(p.frame, p.T_world_cam, mrpt::Clock::toDouble(p.stamp));
                 if (maps.budgetHandOvers() != budget_before)
                     fmt::print(stderr, "\npndt-map: {} reached the size budget of {} voxels: written early, a new "
@@ -311,6 +329,13 @@ int main(int argc, char** argv)
         bar.update(1.0, mapped);
         bar.finish();
         maps.finish();
+        if (refinement)
+        {
+            fs::create_directories(out_dir);
+            refinement->writeTum(out_dir + "/refined_poses.tum");
+            fmt::print("pose refinement    : {}; poses in {}/refined_poses.tum\n", refinement->refiner().stats().summary(),
+                       out_dir);
+        }
 
         // ---- what is in the final map
         const auto final_map = maps.current();
