@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 #include <mrpt/system/datetime.h>
 #include <pndt/mrpt/PanopticNDTMap.h>
+#include <pndt/refine/pose_refiner.h>
 #include <pndt/mrpt/observation_frame.h>
 
 #include <cmath>
@@ -49,7 +50,20 @@ bool PanopticNDTMap::isEmpty() const { return map_.voxels().empty(); }
 
 FrameStats PanopticNDTMap::integrate(const PanopticFrame& frame, const Pose& T_world_cam)
 {
-    const FrameStats st = map_.integrate(frame, T_world_cam);
+    Pose T = T_world_cam;
+    if (insertionOptions.refine_pose)
+    {
+        if (!refiner_)
+        {
+            refine::RefineOptions ro;
+            ro.enabled = true;
+            ro.thing_weight = insertionOptions.refine_thing_weight;
+            ro.loss_scale = insertionOptions.refine_loss_scale;
+            refiner_ = std::make_shared<refine::PoseRefiner>(ro);
+        }
+        T = refiner_->refine(map_, frame, T).pose;
+    }
+    const FrameStats st = map_.integrate(frame, T);
     stats_.totals += st;
     return st;
 }

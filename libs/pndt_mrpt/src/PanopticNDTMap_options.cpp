@@ -177,6 +177,9 @@ void InsertionOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c
     uint64_t n = max_buffered_labels;
     s.read("max_buffered_labels", n);
     max_buffered_labels = size_t(n);
+    s.read("refine_pose", refine_pose);
+    s.read("refine_thing_weight", refine_thing_weight);
+    s.read("refine_loss_scale", refine_loss_scale);
     s.rejectUnknownKeys();
     if (!(label_pairing_tolerance >= 0))
         throw std::invalid_argument(fmt::format("config [{}] key 'label_pairing_tolerance' must be >= 0", section));
@@ -187,6 +190,8 @@ void InsertionOptions::dumpToTextStream(std::ostream& out) const
     out << fmt::format("label_pairing_tolerance = {}\nsemantic_suffix = {}\ninstance_suffix = {}\n"
                        "max_buffered_labels = {}\n",
                        label_pairing_tolerance, semantic_suffix, instance_suffix, max_buffered_labels);
+    out << fmt::format("refine_pose = {}\nrefine_thing_weight = {}\nrefine_loss_scale = {}\n", refine_pose,
+                       refine_thing_weight, refine_loss_scale);
 }
 
 void RenderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& section)

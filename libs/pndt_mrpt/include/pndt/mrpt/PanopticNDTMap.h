@@ -5,6 +5,7 @@
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
+#include <memory>
 #include <mrpt/maps/CMetricMap.h>
 #include <mrpt/maps/TMetricMapTypesRegistry.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
@@ -18,6 +19,10 @@
 #include <deque>
 #include <optional>
 
+namespace pndt::refine
+{
+class PoseRefiner;
+}
 namespace pndt
 {
 enum class ColorMode
@@ -133,6 +138,12 @@ class PanopticNDTMap : public mrpt::maps::CMetricMap
     std::vector<PairedFrame> paired_;  ///< reused between observations
     InsertionStats stats_;
     mutable ObstacleCache obstacle_cache_;
+    /// insertionOptions.refine_pose: created at the first frame; shared by copies.
+    std::shared_ptr<refine::PoseRefiner> refiner_;
+
+   public:
+    /// The pose refiner (insertionOptions.refine_pose), nullptr before the first refined frame.
+    const refine::PoseRefiner* refiner() const { return refiner_.get(); }
 };
 
 /// Reads all PanopticNDTMap options from an MRPT config source, rejecting any key

@@ -21,6 +21,11 @@ struct InsertionOptions : public mrpt::config::CLoadableOptions
     std::string semantic_suffix = "_PANOPTIC_SEMANTIC";
     std::string instance_suffix = "_PANOPTIC_INSTANCE";
     size_t max_buffered_labels = 16;  ///< label images kept while waiting for depth
+    /// Register each frame to the map before integrating it (pndt_refine, doc/refinement.md;
+    /// RefineOptions defaults, these two overridable). Not saved with the map.
+    bool refine_pose = false;
+    double refine_thing_weight = 0.5;
+    double refine_loss_scale = 1.0;
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& section) override;
     void dumpToTextStream(std::ostream& out) const override;

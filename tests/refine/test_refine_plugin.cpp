@@ -1,0 +1,31 @@
+// The plugin's insertion option refine_pose: frames go through the pose refiner before they
+// are integrated; a wall straight ahead is refused (degenerate) and integrated unrefined.
+#include <gtest/gtest.h>
+#include <pndt/mrpt/PanopticNDTMap.h>
+#include <pndt/refine/pose_refiner.h>
+
+TEST(RefinePlugin, InsertionOptionRunsTheRefiner)
+{
+    pndt::PanopticNDTMap map;
+    EXPECT_FALSE(map.insertionOptions.refine_pose);
+    map.insertionOptions.refine_pose = true;
+    pndt::PanopticFrame f;
+    f.K.width = 80;
+    f.K.height = 60;
+    f.K.fx = f.K.fy = 60;
+    f.K.cx = 39.5;
+    f.K.cy = 29.5;
+    f.depth = pndt::Image<float>(80, 60, 2.0f);  // a wall 2 m ahead
+    for (int i = 0; i < 4; ++i)
+    {
+        pndt::Pose T = pndt::Pose::Identity();
+        T.translation().x() = 0.01 * i;
+        map.integrate(f, T);
+    }
+    ASSERT_NE(map.refiner(), nullptr);
+    const auto& st = map.refiner()->stats();
+    EXPECT_EQ(st.frames, 4u);
+    EXPECT_EQ(st.accepted(), 0u);  // the first frame meets an empty map, a single plane never pins 6 DoF
+    EXPECT_EQ(st.fallbacks(), 4u);
+    EXPECT_FALSE(map.isEmpty());
+}
