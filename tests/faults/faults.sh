@@ -46,6 +46,10 @@ kill9)
         wait "$pid" 2> /dev/null
         "$CHECK" "$out" > "$W/kill9_check.log" 2>&1 || { cat "$W/kill9_check.log"; fail "after kill $i at ${delay} s"; }
     done
+    # The kills must have hit a running mapper that wrote maps (not, say, one that stopped at once
+    # on a configuration error).
+    [ "$kills_during_run" -ge $((KILLS / 2)) ] || { cat "$W/kill9.log"; fail "only $kills_during_run kills hit a running pndt-map"; }
+    "$CHECK" "$out" --min-maps 1 > "$W/kill9_check.log" 2>&1 || { cat "$W/kill9_check.log" "$W/kill9.log"; fail "no map was written"; }
     echo "kill9: $KILLS kills ($kills_during_run while running), every map present loads, index.json valid: $(cat "$W/kill9_check.log")"
     ;;
 full)
