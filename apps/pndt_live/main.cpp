@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <pndt/app/layered_config.h>
+#include <pndt/app/map_config.h>
 #include <pndt/app/map_outputs.h>
 #include <pndt/class_set.h>
 #include <pndt/io/atomic_file.h>
@@ -32,28 +33,6 @@ extern "C" void onSignal(int) { g_stop = true; }
 /// the map holds what was mapped before and was written.
 constexpr int kExitError = 1, kExitWriteFailed = 3, kExitCameraLost = 4;
 
-std::string configDir()
-{
-    if (const char* d = std::getenv("PNDT_CONFIG_DIR")) return d;
-    std::error_code ec;
-    const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (!ec)
-    {
-        const auto installed = exe.parent_path().parent_path() / "share" / "panopticndt" / "config";
-        if (std::filesystem::is_regular_file(installed / "panoptic_ndt.ini")) return installed.string();
-    }
-    return PNDT_CONFIG_DIR;
-}
-
-ShortTermMaps::Factory mapFactory(const mrpt::config::CConfigFileBase& cfg)
-{
-    auto inits = std::make_shared<mrpt::maps::TSetOfMetricMapInitializers>();
-    inits->loadFromConfigFile(cfg, "MAP");
-    for (const auto& def : *inits)
-        if (def->getMetricMapClassType() == CLASS_ID(PanopticNDTMap))
-            return [inits, def] { return PanopticNDTMap::Ptr(PanopticNDTMap::CreateFromMapDefinition(*def)); };
-    throw std::runtime_error("config: [MAP] defines no PanopticNDTMap (set PanopticNDTMap_count=1)");
-}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -130,8 +109,9 @@ int main(int argc, char** argv)
             return 0;
         }
         // ---- configuration: exactly pndt-map's
-        std::vector<std::string> files = {configDir() + "/panoptic_ndt.ini", configDir() + "/pndt_map.ini"};
-        for (const auto& preset : presets) files.push_back(configDir() + "/presets/" + preset + ".ini");
+        const std::string config = configDir(PNDT_CONFIG_DIR);
+        std::vector<std::string> files = {config + "/panoptic_ndt.ini", config + "/pndt_map.ini"};
+        for (const auto& preset : presets) files.push_back(config + "/presets/" + preset + ".ini");
         files.insert(files.end(), configs.begin(), configs.end());
         if (period >= 0) sets.push_back(fmt::format("pndt-map.period={}", period));
         if (voxel_size > 0) sets.push_back(fmt::format("MAP_PanopticNDTMap_00_creationOpts.voxel_size={}", voxel_size));

@@ -8,6 +8,7 @@
 #include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/system/datetime.h>
 #include <pndt/app/layered_config.h>
+#include <pndt/app/map_config.h>
 #include <pndt/app/map_rawlog.h>
 #include <pndt/app/map_outputs.h>
 #include <pndt/app/observation_stream.h>
@@ -44,32 +45,6 @@ constexpr int kExitError = 1, kExitTruncated = 2, kExitInterrupted = 130;
 // An output file could not be written (disk full, read-only, permissions): mapping stopped;
 // the maps already listed in index.json are complete (doc/hardening.md).
 constexpr int kExitWriteFailed = 3;
-
-/// $PNDT_CONFIG_DIR, else an installed copy (<prefix>/share/panopticndt/config beside
-/// <prefix>/bin/pndt-map), else the source tree's config/ (a build tree).
-std::string configDir()
-{
-    if (const char* d = std::getenv("PNDT_CONFIG_DIR")) return d;
-    std::error_code ec;
-    const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (!ec)
-    {
-        const auto installed = exe.parent_path().parent_path() / "share" / "panopticndt" / "config";
-        if (std::filesystem::is_regular_file(installed / "panoptic_ndt.ini")) return installed.string();
-    }
-    return PNDT_CONFIG_DIR;
-}
-
-/// Factory of fresh maps from the [MAP] section's PanopticNDTMap definition.
-ShortTermMaps::Factory mapFactory(const mrpt::config::CConfigFileBase& cfg)
-{
-    auto inits = std::make_shared<mrpt::maps::TSetOfMetricMapInitializers>();
-    inits->loadFromConfigFile(cfg, "MAP");
-    for (const auto& def : *inits)
-        if (def->getMetricMapClassType() == CLASS_ID(PanopticNDTMap))
-            return [inits, def] { return PanopticNDTMap::Ptr(PanopticNDTMap::CreateFromMapDefinition(*def)); };
-    throw std::runtime_error("config: [MAP] defines no PanopticNDTMap (set PanopticNDTMap_count=1)");
-}
 
 /// An optical camera pose looking from `eye` at `target`, world z up.
 Pose lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target)
@@ -154,8 +129,9 @@ int main(int argc, char** argv)
     try
     {
         // ---- configuration: defaults, preset, user files, then overrides
-        std::vector<std::string> files = {configDir() + "/panoptic_ndt.ini", configDir() + "/pndt_map.ini"};
-        for (const auto& preset : presets) files.push_back(configDir() + "/presets/" + preset + ".ini");
+        const std::string config = configDir(PNDT_CONFIG_DIR);
+        std::vector<std::string> files = {config + "/panoptic_ndt.ini", config + "/pndt_map.ini"};
+        for (const auto& preset : presets) files.push_back(config + "/presets/" + preset + ".ini");
         files.insert(files.end(), configs.begin(), configs.end());
         if (!poses.empty()) sets.insert(sets.begin(), {"pndt-map.pose_source=file", "pndt-map.pose_file=" + poses});
         if (!pose_format.empty()) sets.push_back("pndt-map.pose_format=" + pose_format);

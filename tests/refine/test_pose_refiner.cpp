@@ -1,6 +1,7 @@
 // Frame-to-map pose refinement on an analytic room: recovery of a known perturbation,
 // an exact pose stays put, a single plane is refused, fallbacks are counted.
 #include <gtest/gtest.h>
+#include <pndt/look_at.h>
 #include <pndt/panoptic_map.h>
 #include <pndt/refine/pose_refiner.h>
 
@@ -63,15 +64,7 @@ pndt::CameraIntrinsics intrinsics()
 /// Optical camera at `eye` looking at `target`, world z up.
 Pose lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target)
 {
-    const Eigen::Vector3d z = (target - eye).normalized();
-    const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
-    const Eigen::Vector3d y = z.cross(x);
-    Pose T = Pose::Identity();
-    T.linear().col(0) = x;
-    T.linear().col(1) = y;
-    T.linear().col(2) = z;
-    T.translation() = eye;
-    return T;
+    return pndt::lookAt(eye, target, Eigen::Vector3d::UnitZ());
 }
 
 /// Depth of the room (and the cabinet) seen from T; `plane_only`: an infinite wall at y = 2.5 only.
