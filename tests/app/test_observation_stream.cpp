@@ -14,6 +14,8 @@
 #include <fstream>
 #include <iterator>
 
+#include "rawlog_bytes.h"
+
 namespace fs = std::filesystem;
 
 namespace
@@ -86,21 +88,6 @@ TEST(ObservationStream, ACutAnywhereStopsWithAMessageNamingTheFile)
     std::printf("[measured] %d cuts of a %zu-byte rawlog, %d reported as truncated\n", cuts, bytes.size(), truncated);
     EXPECT_GE(truncated, cuts * 9 / 10);  // a cut at the end of an object may end cleanly
     fs::remove_all(dir);
-}
-
-/// The decompressed bytes of a rawlog, and a rawlog written from such bytes.
-std::string readDecompressed(const fs::path& path)
-{
-    mrpt::io::CFileGZInputStream in(path.string());
-    std::string out;
-    char buf[4096];
-    for (size_t got; (got = in.Read(buf, sizeof(buf))) > 0 && got <= sizeof(buf);) out.append(buf, got);
-    return out;
-}
-void writeCompressed(const fs::path& path, const std::string& bytes)
-{
-    mrpt::io::CFileGZOutputStream out(path.string());
-    out.Write(bytes.data(), bytes.size());
 }
 
 TEST(ObservationStream, ACorruptJpegColourImageStopsWithAMessageNotTheProcess)

@@ -1,11 +1,12 @@
 #include <fmt/format.h>
+#include <mrpt/io/CMemoryStream.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CSensoryFrame.h>
-#include <opencv2/imgcodecs.hpp>
 #include <pndt/app/observation_stream.h>
 #include <pndt/io/images.h>
 
 #include "gz_file_input.h"
+#include "rawlog_object_check.h"
 
 #include <cstdint>
 #include <cstring>
@@ -19,11 +20,10 @@ namespace pndt::app
 /// count, and CImage ignores a short read of a colour image's JPEG bytes and
 /// decodes the half-filled buffer, where libjpeg's default error handler calls
 /// exit() ("Bogus marker length"): thrown here, the cut shows as a truncated file.
-/// Whole but corrupt JPEG bytes reach the same exit() ("Quantization table 0x00
-/// was not defined"): a colour image's bytes (CImage reads a 4-byte length, then
-/// that many bytes starting with the JPEG SOI marker) are first decoded here at
-/// 1/8 scale by OpenCV, through the same libjpeg with an error handler that
-/// returns; what it cannot decode is thrown as a corrupt image.
+/// Objects are read from it by readCheckedRawlogObject() (rawlog_object_check.h), which
+/// bounds every size MRPT would allocate from and refuses colour images whose JPEG bytes
+/// libjpeg cannot decode (MRPT's libjpeg error handler calls exit()), before MRPT parses
+/// the checked bytes from memory.
 class ObservationStream::GuardedInput : public mrpt::io::CStream
 {
    public:
@@ -37,21 +37,6 @@ class ObservationStream::GuardedInput : public mrpt::io::CStream
         position_ += got;
         if (got < count && !(got == 0 && position_ == object_start_))
             throw std::runtime_error(fmt::format("the file ends {} bytes into the object", position_ - object_start_));
-        const auto* bytes = static_cast<const uint8_t*>(buffer);
-        if (count == last_length_ && count >= 2 && count <= size_t(INT32_MAX) && bytes[0] == 0xFF && bytes[1] == 0xD8)
-        {
-            // MRPT decodes the image at full size: a header claiming a huge one is refused first.
-            const auto wh = pndt::io::imageHeaderSize(bytes, count);
-            if (const std::string problem = pndt::io::imageSizeProblem(wh[0], wh[1]); !problem.empty())
-                throw std::runtime_error(fmt::format("a colour image's JPEG header is implausible: {}", problem));
-        }
-        if (count == last_length_ && count >= 2 && count <= size_t(INT32_MAX) && bytes[0] == 0xFF && bytes[1] == 0xD8 &&
-            !decodes(bytes, count))
-            throw std::runtime_error(
-                fmt::format("a colour image's {} JPEG bytes are corrupt (libjpeg cannot decode them)", count));
-        uint32_t length = 0;
-        if (got == sizeof(length)) std::memcpy(&length, buffer, sizeof(length));  // rawlogs are little-endian
-        last_length_ = got == sizeof(length) ? length : ~uint64_t(0);
         return got;
     }
     size_t Write(const void*, size_t) override { throw std::logic_error("ObservationStream is read-only"); }
@@ -60,22 +45,8 @@ class ObservationStream::GuardedInput : public mrpt::io::CStream
     uint64_t getPosition() const override { return position_; }
 
    private:
-    static bool decodes(const uint8_t* bytes, size_t count)
-    {
-        const cv::Mat encoded(1, int(count), CV_8UC1, const_cast<uint8_t*>(bytes));
-        try
-        {
-            return !cv::imdecode(encoded, cv::IMREAD_REDUCED_COLOR_8).empty();
-        }
-        catch (const cv::Exception&)
-        {
-            return false;
-        }
-    }
-
     GzFileInput& in_;
     uint64_t position_ = 0, object_start_ = 0;
-    uint64_t last_length_ = ~uint64_t(0);  ///< the value of the last read if it was 4 bytes
 };
 
 ObservationStream::ObservationStream(const std::string& path) : path_(path)
@@ -83,7 +54,6 @@ ObservationStream::ObservationStream(const std::string& path) : path_(path)
     if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(fmt::format("{}: no such file", path));
     file_ = std::make_unique<GzFileInput>(path);
     input_ = std::make_unique<GuardedInput>(*file_);
-    archive_ = std::make_unique<mrpt::serialization::CArchiveStreamBase<mrpt::io::CStream>>(*input_);
 }
 
 ObservationStream::~ObservationStream() = default;
@@ -110,12 +80,27 @@ mrpt::obs::CObservation::Ptr ObservationStream::next()
         input_->startObject();
         try
         {
-            *archive_ >> obj;
-        }
-        catch (const mrpt::serialization::CExceptionEOF&)
-        {
-            ended_ = true;  // clean end between objects
-            return nullptr;
+            // The object's layout is walked and its sizes checked while its bytes are
+            // collected; MRPT then parses the checked bytes from memory.
+            if (!detail::readCheckedRawlogObject(*input_, object_bytes_))
+            {
+                ended_ = true;  // clean end between objects
+                return nullptr;
+            }
+            mrpt::io::CMemoryStream memory;
+            memory.assignMemoryNotOwn(object_bytes_.data(), object_bytes_.size());
+            auto archive = mrpt::serialization::archiveFrom(memory);
+            try
+            {
+                archive >> obj;
+            }
+            catch (const mrpt::serialization::CExceptionEOF&)
+            {
+                throw std::runtime_error("MRPT read past the object's checked bytes");
+            }
+            if (memory.getPosition() != object_bytes_.size())
+                throw std::runtime_error(fmt::format("MRPT read {} of the object's {} checked bytes",
+                                                     memory.getPosition(), object_bytes_.size()));
         }
         catch (const std::exception& e)
         {

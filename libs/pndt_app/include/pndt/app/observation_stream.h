@@ -37,7 +37,7 @@ class ObservationStream
     std::unique_ptr<GzFileInput> file_;
     std::string path_;
     std::unique_ptr<GuardedInput> input_;  ///< file_, failing reads that end inside an object
-    std::unique_ptr<mrpt::serialization::CArchive> archive_;
+    std::string object_bytes_;  ///< the current object's checked bytes, parsed by MRPT from memory
     std::deque<mrpt::obs::CObservation::Ptr> queued_;  ///< rest of a sensory frame
     size_t objects_ = 0;
     bool ended_ = false, truncated_ = false;
