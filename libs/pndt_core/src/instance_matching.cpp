@@ -13,6 +13,33 @@
 
 namespace pndt
 {
+namespace
+{
+/// Sets the bits of pixels [a, b) (a < b) and returns how many were clear.
+inline uint32_t markSpan(uint64_t* bits, uint32_t a, uint32_t b)
+{
+    const uint32_t wa = a >> 6, wb = (b - 1) >> 6;
+    const uint64_t first = ~uint64_t(0) << (a & 63), last = ~uint64_t(0) >> (63 - ((b - 1) & 63));
+    if (wa == wb)
+    {
+        const uint64_t m = first & last;
+        const uint32_t fresh = uint32_t(__builtin_popcountll(m & ~bits[wa]));
+        bits[wa] |= m;
+        return fresh;
+    }
+    uint32_t fresh = uint32_t(__builtin_popcountll(first & ~bits[wa]));
+    bits[wa] |= first;
+    for (uint32_t w = wa + 1; w < wb; ++w)
+    {
+        fresh += uint32_t(__builtin_popcountll(~bits[w]));
+        bits[w] = ~uint64_t(0);
+    }
+    fresh += uint32_t(__builtin_popcountll(last & ~bits[wb]));
+    bits[wb] |= last;
+    return fresh;
+}
+}  // namespace
+
 void PanopticMap::predictedBand(const FramePixels& f, int band, int bands)
 {
     Scratch& s = *scratch_;
@@ -72,13 +99,17 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
     // Candidate voxels: thing voxels seen in this frame, once per top-z instance,
     // sorted by (instance, voxel). Each task sorts the pairs of its share of the
     // frame's voxels; the sorted shares are then merged (the pairs are unique, so
-    // the result does not depend on the shares).
+    // the result does not depend on the shares). Each thing voxel is numbered
+    // once (in slot order), for its footprint and pixels.
     const uint32_t nh = s.hitCount();
     const int parts = threads > 1 && nh >= 1024 ? 4 * threads : 1;
     if (s.candidate_parts.size() < size_t(parts)) s.candidate_parts.resize(size_t(parts));
+    if (s.thing_parts.size() < size_t(parts)) s.thing_parts.resize(size_t(parts));
     const auto collect = [&](int t) {
         auto& part = s.candidate_parts[size_t(t)];
+        auto& things = s.thing_parts[size_t(t)];
         part.clear();
+        things.clear();
         const HitSlot* hits = s.hits();
         for (uint32_t h = uint32_t(uint64_t(nh) * t / parts), e = uint32_t(uint64_t(nh) * (t + 1) / parts); h < e; ++h)
         {
@@ -89,8 +120,15 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
             if (!rec || rec->instances == kNoRecord || !isThing(*rec, options_.classes, options_.theta_st, spillOf(v)))
                 continue;
             const auto& hist = instance_records_[rec->instances].hist;
+            const uint32_t thing = uint32_t(things.size());
+            bool any = false;
             for (int j = 0, n = hist.size(); j < n; ++j)
-                if (isInTopZ(hist, hist.ids[j], options_.theta_b)) part.emplace_back(hist.ids[j], vi);
+                if (isInTopZ(hist, hist.ids[j], options_.theta_b))
+                {
+                    part.push_back({hist.ids[j], vi, thing});
+                    any = true;
+                }
+            if (any) things.push_back(vi);
         }
         std::sort(part.begin(), part.end());
     };
@@ -98,10 +136,18 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
         s.pool->run(parts, collect);
     else
         collect(0);
+    s.thing_base.resize(size_t(parts) + 1);
+    s.thing_base[0] = 0;
+    for (int t = 0; t < parts; ++t) s.thing_base[size_t(t) + 1] = s.thing_base[size_t(t)] + uint32_t(s.thing_parts[size_t(t)].size());
+    s.thing_voxel.resize(s.thing_base[size_t(parts)]);
+    for (int t = 0; t < parts; ++t)
+        std::copy(s.thing_parts[size_t(t)].begin(), s.thing_parts[size_t(t)].end(),
+                  s.thing_voxel.begin() + s.thing_base[size_t(t)]);
     s.candidates.swap(s.candidate_parts[0]);
     for (int t = 1; t < parts; ++t)
     {
-        const auto& part = s.candidate_parts[size_t(t)];
+        auto& part = s.candidate_parts[size_t(t)];
+        for (MaskCandidate& c : part) c.thing += s.thing_base[size_t(t)];
         s.candidate_merge.resize(s.candidates.size() + part.size());
         std::merge(s.candidates.begin(), s.candidates.end(), part.begin(), part.end(), s.candidate_merge.begin());
         s.candidates.swap(s.candidate_merge);
@@ -115,39 +161,57 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
         a = b;
     }
 
-    // One mask per map instance. Each mask is cut into the image's row bands,
-    // so that a large one does not leave a thread alone at the end: a pixel
-    // lies in one band, so each piece dedupes its own pixels (per-thread
-    // stamps) and the pieces' counts add up (per-thread sums). Largest masks
-    // first. The footprints of the candidate voxels are computed once.
-    const size_t G = s.groups.size(), C = s.candidates.size();
+    // vtou of each thing voxel, once however many instances it has: its
+    // footprint, then its pixels that pass the depth test (in raster order),
+    // each at its own place in one buffer (the footprints' boxes bound them).
+    const size_t G = s.groups.size();
+    const size_t TV = s.thing_voxel.size();
     const Pose T_cam_world = T.inverse();
-    s.footprints.resize(C);
-    const auto footprints = [&](int t, int tasks) {
-        for (size_t c = C * size_t(t) / size_t(tasks), e = C * size_t(t + 1) / size_t(tasks); c < e; ++c)
-            s.footprints[c] = maskFootprint(s.candidates[c].second, T_cam_world, f.K);
+    s.footprints.resize(TV);
+    s.thing_spans.resize(TV + 1);
+    s.thing_span_count.resize(TV);
+    const int thing_tasks = threads > 1 && TV >= 128 ? 4 * threads : 1;
+    const auto footprints = [&](int t) {
+        for (size_t u = TV * size_t(t) / size_t(thing_tasks), e = TV * size_t(t + 1) / size_t(thing_tasks); u < e; ++u)
+        {
+            const MaskFootprint fp = maskFootprint(s.thing_voxel[u], T_cam_world, f.K);
+            s.footprints[u] = fp;
+            s.thing_spans[u + 1] =
+                fp.r0 <= fp.r1 && fp.c0 <= fp.c1 ? uint64_t(fp.r1 - fp.r0 + 1) * uint64_t(fp.c1 - fp.c0 + 1) : 0;
+        }
     };
-    const int footprint_tasks = threads > 1 && C >= 256 ? 4 * threads : 1;
-    if (footprint_tasks > 1)
-        s.pool->run(footprint_tasks, [&](int t) { footprints(t, footprint_tasks); });
+    if (thing_tasks > 1)
+        s.pool->run(thing_tasks, footprints);
     else
-        footprints(0, 1);
+        footprints(0);
+    s.thing_spans[0] = 0;
+    for (size_t u = 0; u < TV; ++u) s.thing_spans[u + 1] += s.thing_spans[u];
+    s.mask_spans.reserve(size_t(s.thing_spans[TV]));
+    const auto rasterise = [&](int t) {
+        for (size_t u = TV * size_t(t) / size_t(thing_tasks), e = TV * size_t(t + 1) / size_t(thing_tasks); u < e; ++u)
+            s.thing_span_count[u] = footprintSpans(s.footprints[u], f, s.mask_spans.data() + s.thing_spans[u]);
+    };
+    if (thing_tasks > 1)
+        s.pool->run(thing_tasks, rasterise);
+    else
+        rasterise(0);
 
-    const int H = f.depth.height;
+    // One mask per map instance: the union of its voxels' pixels. Each mask is
+    // cut into the image's row bands, so that a large one does not leave a
+    // thread alone at the end: a pixel lies in one band, so each piece dedupes
+    // its own pixels (per-thread pixel bits) and the pieces' counts add up
+    // (per-thread sums). Largest masks first.
+    const int W = f.depth.width, H = f.depth.height;
     const int pieces = threads > 1 ? B : 1;
     const int mask_tasks = int(G) * pieces;
+    const size_t P1 = P + 1;  // per group: pixels of no prediction, then each prediction
     if (s.mask_workers.size() < size_t(threads)) s.mask_workers.resize(size_t(threads));
     for (int t = 0; t < threads; ++t)
     {
         MaskWorker& m = s.mask_workers[size_t(t)];
-        // One stamp per task: this frame's must not wrap around to the stamps' 0.
-        if (m.stamp.size() != N || m.counter > 0xFFFFFFFFu - uint32_t(mask_tasks))
-        {
-            m.stamp.assign(N, 0);
-            m.counter = 0;
-        }
+        if (m.bits.size() != (N + 63) / 64) m.bits.assign((N + 63) / 64, 0);
         m.area.assign(G, 0);
-        m.inter.assign(G * P, 0);
+        m.inter.assign(G * P1, 0);
     }
     s.mask_order.resize(G);
     for (size_t gi = 0; gi < G; ++gi) s.mask_order[gi] = uint32_t(gi);
@@ -157,23 +221,37 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
     const auto mask = [&](int task, int thread) {
         const size_t gi = s.mask_order[size_t(task / pieces)];
         const int piece = task % pieces, row_begin = H * piece / pieces, row_end = H * (piece + 1) / pieces;
+        const uint32_t pixel_begin = uint32_t(row_begin) * uint32_t(W), pixel_end = uint32_t(row_end) * uint32_t(W);
         MaskWorker& m = s.mask_workers[size_t(thread)];
-        const uint32_t stamp = ++m.counter;
         uint64_t area = 0;
-        uint64_t* inter = &m.inter[gi * P];
-        uint32_t* stamps = m.stamp.data();
+        uint64_t* inter = &m.inter[gi * P1 + 1];  // [-1] counts pixels of no prediction
+        uint64_t* bits = m.bits.data();
+        // The spans of thing voxel u in this piece's rows.
+        const auto spans = [&](uint32_t u) -> std::pair<const MaskSpan*, const MaskSpan*> {
+            const MaskSpan* sp = s.mask_spans.data() + s.thing_spans[u];
+            const MaskSpan* end = sp + s.thing_span_count[u];
+            if (pieces > 1)
+            {
+                const auto before = [](const MaskSpan& x, uint32_t i) { return x.begin < i; };
+                const MaskFootprint& fp = s.footprints[u];
+                if (std::max(fp.r0, row_begin) >= std::min(fp.r1 + 1, row_end)) return {sp, sp};
+                if (fp.r0 < row_begin) sp = std::lower_bound(sp, end, pixel_begin, before);
+                if (fp.r1 >= row_end) end = std::lower_bound(sp, end, pixel_end, before);
+            }
+            return {sp, end};
+        };
         for (size_t c = s.groups[gi].first; c < s.groups[gi].second; ++c)
-        {
-            const MaskFootprint& fp = s.footprints[c];
-            const int r0 = std::max(fp.r0, row_begin), r1 = std::min(fp.r1 + 1, row_end);
-            if (r0 >= r1) continue;
-            forEachFootprintPixel(fp, r0, r1, f, [&](size_t i, int32_t p) {
-                if (stamps[i] == stamp) return;
-                stamps[i] = stamp;
-                ++area;
-                if (p >= 0) ++inter[size_t(p)];
-            });
-        }
+            for (auto [sp, end] = spans(s.candidates[c].thing); sp < end; ++sp)
+            {
+                // Pixels not in this mask yet: a word (64 pixels) at a time.
+                const uint32_t fresh = markSpan(bits, sp->begin, sp->end);
+                area += fresh;
+                inter[sp->predicted] += fresh;
+            }
+        // Clear the mask's bits for the next one: the words its spans touched.
+        for (size_t c = s.groups[gi].first; c < s.groups[gi].second; ++c)
+            for (auto [sp, end] = spans(s.candidates[c].thing); sp < end; ++sp)
+                for (uint32_t w = sp->begin >> 6, we = (sp->end - 1) >> 6; w <= we; ++w) bits[w] = 0;
         m.area[gi] += area;
     };
     if (threads > 1 && mask_tasks > 1)
@@ -185,8 +263,11 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
     for (int t = 0; t < threads; ++t)
     {
         const MaskWorker& m = s.mask_workers[size_t(t)];
-        for (size_t gi = 0; gi < G; ++gi) s.group_area[gi] += m.area[gi];
-        for (size_t k = 0; k < G * P; ++k) s.group_inter[k] += m.inter[k];
+        for (size_t gi = 0; gi < G; ++gi)
+        {
+            s.group_area[gi] += m.area[gi];
+            for (size_t p = 0; p < P; ++p) s.group_inter[gi * P + p] += m.inter[gi * P1 + 1 + p];
+        }
     }
 
     s.iou.resize(G * P);
@@ -350,12 +431,17 @@ void PanopticMap::splitMergedPredictions(const FramePixels& f, FrameStats& st)
             s.split_pixels = true;
             for (size_t c = s.groups[gi].first; c < s.groups[gi].second; ++c)
                 if (const Voxel& v = store_[s.candidates[c].second]; ownThingClass(*labelsOf(v), classes, spillOf(v)) != g.cls[p])
-                    forEachFootprintPixel(s.footprints[c], s.footprints[c].r0, s.footprints[c].r1 + 1, f,
-                                          [&](size_t i, int32_t q) {
-                                              if (q != int32_t(p)) return;
-                                              s.split_stamp[i] = stamp;
-                                              s.split_id[i] = z;
-                                          });
+                {
+                    const uint32_t u = s.candidates[c].thing;
+                    const MaskSpan* sp = s.mask_spans.data() + s.thing_spans[u];
+                    for (const MaskSpan* end = sp + s.thing_span_count[u]; sp < end; ++sp)
+                        if (sp->predicted == int32_t(p))
+                            for (uint32_t i = sp->begin; i < sp->end; ++i)
+                            {
+                                s.split_stamp[i] = stamp;
+                                s.split_id[i] = z;
+                            }
+                }
         }
     }
 }
@@ -369,9 +455,7 @@ MaskFootprint PanopticMap::maskFootprint(uint32_t voxel, const Pose& T_cam_world
     return cubeFootprint(grid_.minCorner(store_.key(voxel)), options_.voxel_size, T_cam_world, K);
 }
 
-template <class Visit>
-void PanopticMap::forEachFootprintPixel(const MaskFootprint& fp, int row_begin, int row_end, const FramePixels& f,
-                                        Visit&& visit)
+uint32_t PanopticMap::footprintSpans(const MaskFootprint& fp, const FramePixels& f, MaskSpan* out)
 {
     Scratch& s = *scratch_;
     const int W = f.depth.width, H = f.depth.height;
@@ -379,20 +463,28 @@ void PanopticMap::forEachFootprintPixel(const MaskFootprint& fp, int row_begin, 
     const double k2 = options_.vtou_mahalanobis_sq;
     const int32_t* predicted = s.pixel_predicted.data();
     const float* depth = f.depth.data.data();
-    for (int r = row_begin; r < row_end; ++r)
+    uint32_t n = 0;
+    for (int r = fp.r0; r <= fp.r1; ++r)
     {
         const int32_t* to_frame = s.predicted_bands[size_t(s.bandOfRow(r, H))].remap.data();
         int a, b;
         if (!footprintRow(fp, r, k2, a, b)) continue;
-        const size_t row = size_t(r) * W;
+        const uint32_t row = uint32_t(r) * uint32_t(W);
+        // Runs of pixels that pass, of one (band-local) predicted index.
+        int32_t run_p = kUnmappedPixel;
+        uint32_t run_begin = 0;
         for (int c = a; c <= b; ++c)
         {
-            const size_t i = row + c;
-            const int32_t p = predicted[i];
-            if (p == kUnmappedPixel || !agreesInDepth(fp, depth[i], tol)) continue;
-            visit(i, p >= 0 ? to_frame[p] : p);
+            const int32_t p = predicted[row + c];
+            const int32_t q = p == kUnmappedPixel || !agreesInDepth(fp, depth[row + c], tol) ? kUnmappedPixel : p;
+            if (q == run_p) continue;
+            if (run_p != kUnmappedPixel) out[n++] = {row + run_begin, row + uint32_t(c), run_p >= 0 ? to_frame[run_p] : run_p};
+            run_p = q;
+            run_begin = uint32_t(c);
         }
+        if (run_p != kUnmappedPixel) out[n++] = {row + run_begin, row + uint32_t(b) + 1, run_p >= 0 ? to_frame[run_p] : run_p};
     }
+    return n;
 }
 
 }  // namespace pndt

@@ -259,13 +259,51 @@ struct PredictedBand
     std::vector<int32_t> remap;                ///< local index -> frame index (identity in band 0)
 };
 
-/// Per-thread state of the mask rasterisation: stamps (a pixel counts once per
-/// mask) and the thread's counts per map instance (summed afterwards: integer
-/// sums, so any split of the work gives the same totals).
+/// A thing voxel seen in this frame, once per top-z instance: sorted by
+/// (instance, voxel); `thing` indexes the frame's thing voxels (footprints and
+/// pixel lists, computed once per voxel however many instances it has).
+struct MaskCandidate
+{
+    uint32_t first = 0;   ///< map instance
+    uint32_t second = 0;  ///< voxel (store index)
+    uint32_t thing = 0;
+    bool operator<(const MaskCandidate& o) const { return first != o.first ? first < o.first : second < o.second; }
+};
+
+/// Pixels [begin, end) of one image row in a thing voxel's vtou (footprint and
+/// depth test passed), all of one predicted instance (frame index, -1 none).
+struct MaskSpan
+{
+    uint32_t begin, end;
+    int32_t predicted;
+};
+
+/// Room for the frame's mask spans, allocated uninitialised and only grown.
+class MaskSpanBuffer
+{
+   public:
+    void reserve(size_t n)
+    {
+        if (n <= capacity_) return;
+        n += n / 4;
+        data_.reset(new MaskSpan[n]);
+        capacity_ = n;
+    }
+    MaskSpan* data() { return data_.get(); }
+    const MaskSpan* data() const { return data_.get(); }
+
+   private:
+    std::unique_ptr<MaskSpan[]> data_;
+    size_t capacity_ = 0;
+};
+
+/// Per-thread state of the mask rasterisation: a bit per pixel (a pixel counts
+/// once per mask; all clear between masks) and the thread's counts per map
+/// instance (summed afterwards: integer sums, so any split of the work gives
+/// the same totals).
 struct MaskWorker
 {
-    std::vector<uint32_t> stamp;
-    uint32_t counter = 0;
+    std::vector<uint64_t> bits;
     std::vector<uint64_t> area;   ///< per group
     std::vector<uint64_t> inter;  ///< per group x predicted
 };
@@ -345,15 +383,21 @@ struct PanopticMap::Scratch
     std::vector<PredictedBand> predicted_bands;          ///< [0]: the frame's predicted instances
     std::vector<uint32_t> predicted_decision;            ///< matched/new map id, 0 = none
     std::vector<int32_t> pixel_predicted;                ///< per pixel its band's local index, -1 none, kUnmappedPixel
-    std::vector<std::pair<uint32_t, uint32_t>> candidates;  ///< (map instance, voxel index), sorted
-    std::vector<std::vector<std::pair<uint32_t, uint32_t>>> candidate_parts;  ///< per task, sorted
-    std::vector<std::pair<uint32_t, uint32_t>> candidate_merge;  ///< merge buffer
+    std::vector<MaskCandidate> candidates;               ///< (map instance, voxel index, thing), sorted
+    std::vector<std::vector<MaskCandidate>> candidate_parts;  ///< per task, sorted
+    std::vector<MaskCandidate> candidate_merge;          ///< merge buffer
+    std::vector<std::vector<uint32_t>> thing_parts;      ///< per task: hit slots of its thing voxels
+    std::vector<uint32_t> thing_base;                    ///< per task: index of its first thing voxel
+    std::vector<uint32_t> thing_voxel;                   ///< per thing voxel of the frame: its store index
+    MaskSpanBuffer mask_spans;                           ///< per thing voxel its vtou pixels as row spans
+    std::vector<uint64_t> thing_spans;                   ///< per thing voxel: its first span (prefix sums of a bound)
+    std::vector<uint32_t> thing_span_count;              ///< per thing voxel: its spans
     std::vector<std::pair<size_t, size_t>> groups;       ///< candidates of one map instance
     std::vector<uint64_t> group_area;                    ///< per group: mask area
     std::vector<uint64_t> group_inter;                   ///< per group x predicted: intersection
     std::vector<MaskWorker> mask_workers;                ///< per thread
     std::vector<uint32_t> mask_order;                    ///< groups, largest first
-    std::vector<MaskFootprint> footprints;               ///< per candidate
+    std::vector<MaskFootprint> footprints;               ///< per thing voxel
     std::vector<double> iou;                             ///< per group x predicted
     std::vector<int32_t> assignment;                     ///< per predicted: group, kAssignNew/Ambiguous
     std::vector<float> class_mass;                       ///< per class, one group at a time

@@ -89,6 +89,7 @@ struct PointLabel
 
 struct RayWorker;      // integrate()'s per-thread free-space scratch
 struct MaskFootprint;  // a voxel's back-projection into the image
+struct MaskSpan;       // a run of its pixels in one image row
 struct FramePixels;    // a frame as the stages read it (contiguous, float metres along z)
 
 class PanopticMap
@@ -224,11 +225,10 @@ class PanopticMap
     void predictedBand(const FramePixels& f, int band, int bands);
     /// vtou of one voxel: where it lies in the image.
     MaskFootprint maskFootprint(uint32_t voxel, const Pose& T_cam_world, const CameraIntrinsics& K) const;
-    /// Calls visit(pixel index, predicted index or -1) for each pixel of the
-    /// footprint in image rows [row_begin, row_end) that passes the depth test.
-    template <class Visit>
-    void forEachFootprintPixel(const MaskFootprint& fp, int row_begin, int row_end, const FramePixels& f,
-                               Visit&& visit);
+    /// The footprint's pixels that pass the depth test, as runs along its rows
+    /// of one predicted instance each, in raster order; returns their number
+    /// (at most the footprint's box area).
+    uint32_t footprintSpans(const MaskFootprint& fp, const FramePixels& f, MaskSpan* out);
     void classifyMapInstances();
     void collectFragmentEvidence();
     void mergeFragments(FrameStats& st);
