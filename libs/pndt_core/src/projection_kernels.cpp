@@ -103,14 +103,23 @@ void projectRowSse2(const ProjectionSetup& P, const double* a, const float* dept
     projectRowScalar(P, a, depth, c, c1, out);
 }
 
+// No int <-> double conversions (two micro-ops each on some cores, four per
+// axis before): G < 2^53 truncated (vroundpd), plus 2^52 puts its integer
+// part in the low mantissa bits, where the key field (bits 20..40) and the
+// offset (bits 0..19) are read with integer masks; the offset goes back to a
+// double with the same 2^52 trick. The same numbers as the scalar version:
+// trunc(G) - K 2^20 is trunc(G - K 2^20), and every step is exact.
 __attribute__((target("avx2"))) static void projectRowAvx2Impl(const ProjectionSetup& P, const double* a,
                                                                const float* depth, int c0, int c1, RowBuffer& out)
 {
     const __m256d zero = _mm256_setzero_pd(), fmax = _mm256_set1_pd(double(kFloatMax)),
                   rmax = _mm256_set1_pd(P.max_range);
-    const __m256d inv = _mm256_set1_pd(kInvScale), scale = _mm256_set1_pd(kSampleScale),
-                  half = _mm256_set1_pd(double(kSampleHalf));
-    const __m128i zero4 = _mm_setzero_si128(), fieldmax1 = _mm_set1_epi32(kFieldMax + 1);
+    const __m256d inv = _mm256_set1_pd(kInvScale), one = _mm256_set1_pd(1.0),
+                  fieldend = _mm256_set1_pd(double(kFieldMax + 1));
+    const __m256d two52 = _mm256_set1_pd(4503599627370496.0);                                // 2^52
+    const __m256d two52_half = _mm256_set1_pd(4503599627370496.0 + double(kSampleHalf));    // exact
+    const __m256i two52_bits = _mm256_castpd_si256(two52);
+    const __m256i field_mask = _mm256_set1_epi64x(kFieldMax), offset_mask = _mm256_set1_epi64x(kMask);
     const __m256i inside_all = P.inside ? _mm256_set1_epi32(-1) : _mm256_setzero_si256();
     const __m256i invalid_key = _mm256_set1_epi64x(int64_t(kInvalidKey)),
                   over_key = _mm256_set1_epi64x(int64_t(kOverRangeKey)),
@@ -129,22 +138,26 @@ __attribute__((target("avx2"))) static void projectRowAvx2Impl(const ProjectionS
         const __m256d in_range = _mm256_cmp_pd(zf, rmax, _CMP_LE_OQ);
         const __m256d z = _mm256_and_pd(zf, _mm256_and_pd(valid, in_range));
         __m256i K[3];
-        __m128i inside = _mm_set1_epi32(-1);
+        __m256i inside = _mm256_set1_epi32(-1);
         for (int i = 0; i < 3; ++i)
         {
             const __m256d G =
                 _mm256_add_pd(t[i], _mm256_mul_pd(z, _mm256_add_pd(av[i], _mm256_loadu_pd(&P.col[i][size_t(c)]))));
-            const __m128i k = _mm256_cvttpd_epi32(_mm256_mul_pd(G, inv));  // 4 x int32
-            const __m128i ok = _mm_and_si128(_mm_cmpgt_epi32(k, zero4), _mm_cmpgt_epi32(fieldmax1, k));
-            inside = _mm_and_si128(inside, ok);
-            const __m128i kk = _mm_and_si128(k, ok);
-            const __m256d frac = _mm256_and_pd(_mm256_sub_pd(G, _mm256_mul_pd(_mm256_cvtepi32_pd(kk), scale)),
-                                               _mm256_castsi256_pd(_mm256_cvtepi32_epi64(ok)));
-            const __m256d q = _mm256_sub_pd(_mm256_cvtepi32_pd(_mm256_cvttpd_epi32(frac)), half);
+            // In the grid: 1 <= G / 2^20 < kFieldMax + 1 (false for NaN).
+            const __m256d kd = _mm256_mul_pd(G, inv);
+            const __m256i ok = _mm256_castpd_si256(
+                _mm256_and_pd(_mm256_cmp_pd(kd, one, _CMP_GE_OQ), _mm256_cmp_pd(kd, fieldend, _CMP_LT_OQ)));
+            inside = _mm256_and_si256(inside, ok);
+            // ok: 2^20 <= G < 2^41, so trunc(G) + 2^52 is exact with trunc(G) in its low bits.
+            const __m256i bits = _mm256_and_si256(
+                _mm256_castpd_si256(_mm256_add_pd(_mm256_round_pd(G, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC), two52)),
+                ok);
+            K[i] = _mm256_and_si256(_mm256_srli_epi64(bits, kSampleBits), field_mask);
+            const __m256d q = _mm256_sub_pd(
+                _mm256_castsi256_pd(_mm256_or_si256(_mm256_and_si256(bits, offset_mask), two52_bits)), two52_half);
             _mm256_storeu_pd(&out.q[i][size_t(c)], q);
-            K[i] = _mm256_cvtepu32_epi64(kk);
         }
-        const __m256i in64 = _mm256_or_si256(_mm256_cvtepi32_epi64(inside), inside_all);
+        const __m256i in64 = _mm256_or_si256(inside, inside_all);
         __m256i pk = _mm256_or_si256(K[0], _mm256_or_si256(_mm256_slli_epi64(K[1], 21), _mm256_slli_epi64(K[2], 42)));
         pk = _mm256_blendv_epi8(outside_key, pk, in64);
         pk = _mm256_blendv_epi8(over_key, pk, _mm256_castpd_si256(in_range));
