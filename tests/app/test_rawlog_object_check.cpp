@@ -354,6 +354,25 @@ TEST(RawlogObjectCheck, ClassesAndVersionsItDoesNotCheckAreRefusedByName)
     EXPECT_NE(reason.find("a 'mrpt::obs::CObservation2DRangeScan' object, which this reader does not accept"), std::string::npos)
         << reason;
 
+    // A range image stored in a file of its own (MRPT's load() would size it from that
+    // file, unchecked): refused, naming it.
+    {
+        mrpt::io::CFileGZOutputStream out((dir.path / "external.rawlog").string());
+        auto ar = mrpt::serialization::archiveFrom(out);
+        mrpt::obs::CObservation3DRangeScan scan;
+        scan.hasRangeImage = true;
+        scan.rangeImage_setSize(8, 10);
+        scan.rangeImage.fill(900);
+        scan.rangeImage_convertToExternalStorage("range.bin", dir.path.string() + "/");
+        ar << scan;
+    }
+    const std::string external = readInChildUnderLimit(dir.path / "external.rawlog");
+    EXPECT_NE(external.find("at object #1"), std::string::npos) << external;
+    EXPECT_NE(external.find("CObservation3DRangeScan v10: externally stored range images, which this reader does "
+                            "not load"),
+              std::string::npos)
+        << external;
+
     writeFrames(dir.path / "ours.rawlog");
     std::string plain = readDecompressed(dir.path / "ours.rawlog");
     const size_t scan = plain.find("CObservation3DRangeScan");

@@ -367,7 +367,9 @@ class Walker
         versions(v, 0, 10);
         skip(4);  // maxRange
         object("the sensor pose", {"CPose3D"});
-        if (v == 0 || flag("the has-points flag"))
+        const bool points = v == 0 || flag("the has-points flag");
+        bool range = false;
+        if (points)
         {
             const auto n = get<uint32_t>("a point count");
             if (n > io::kMaxImagePixels)
@@ -380,7 +382,7 @@ class Walker
         }
         if (v >= 1)
         {
-            const bool range = flag("the has-range-image flag");
+            range = flag("the has-range-image flag");
             if (v >= 9) skip(4);  // rangeUnits
             if (range)
             {
@@ -410,10 +412,16 @@ class Walker
         str("the sensor label");
         if (v >= 3)
         {
-            flag("the external-points flag");
+            // MRPT's load() sizes externally stored points and range images from those files
+            // unchecked (and pndt reads scans through load()): such scans are refused.
+            const bool external_points = flag("the external-points flag");
             str("the external points' file name");
-            flag("the external-range-image flag");
+            const bool external_range = flag("the external-range-image flag");
             str("the external range image's file name");
+            if ((points && external_points) || (range && external_range))
+                fail(fmt::format("externally stored {}, which this reader does not load (MRPT would size them from "
+                                 "that file unchecked)",
+                                 points && external_points ? "points" : "range images"));
         }
         if (v >= 5) flag("the range-is-depth flag");
         if (v >= 6) skip(1);  // intensity channel
