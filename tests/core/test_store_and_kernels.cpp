@@ -542,52 +542,57 @@ TEST(PredictedPixels, HandCountedBand)
     EXPECT_EQ(pb.cls, (std::vector<uint16_t>{3, 4, 6}));
 }
 
-TEST(PredictedPixels, TheFastPathGivesTheScalarResults)
+TEST(PredictedPixels, TheFastPathsGiveTheScalarResults)
 {
-    const ContinueInstanceFn fast = continueInstanceAvx512();
-    if (!fast) GTEST_SKIP() << "no AVX-512 on this CPU";
-    std::mt19937 rng(5);
-    const size_t n = 20000;
-    std::vector<uint32_t> ids(n);
-    std::vector<uint16_t> sem(n);
-    std::vector<int32_t> slots(n);
-    for (int trial = 0; trial < 20; ++trial)
+    std::vector<ContinueInstanceFn> fasts;
+    if (const ContinueInstanceFn f = continueInstanceAvx512()) fasts.push_back(f);
+    if (const ContinueInstanceFn f = continueInstanceAvx2()) fasts.push_back(f);
+    if (fasts.empty()) GTEST_SKIP() << "no AVX2 or AVX-512 on this CPU";
+    for (const ContinueInstanceFn fast : fasts)
     {
-        // Runs of random length (1-80 pixels) of background or one of 12 ids;
-        // holes without depth sprinkled at a per-trial rate.
-        const double hole_rate = 0.02 * (trial % 4);
-        std::uniform_real_distribution<double> u(0, 1);
-        for (size_t i = 0; i < n;)
+        std::mt19937 rng(5);
+        const size_t n = 20000;
+        std::vector<uint32_t> ids(n);
+        std::vector<uint16_t> sem(n);
+        std::vector<int32_t> slots(n);
+        for (int trial = 0; trial < 20; ++trial)
         {
-            const uint32_t id = rng() % 3 == 0 ? 0 : 100 + rng() % 12;
-            for (size_t e = std::min(n, i + 1 + rng() % 80); i < e; ++i)
+            // Runs of random length (1-80 pixels) of background or one of 12 ids;
+            // holes without depth sprinkled at a per-trial rate.
+            const double hole_rate = 0.02 * (trial % 4);
+            std::uniform_real_distribution<double> u(0, 1);
+            for (size_t i = 0; i < n;)
             {
-                ids[i] = id;
-                sem[i] = uint16_t(id % 7);
-                slots[i] = u(rng) < hole_rate ? -1 : int32_t(rng() % 1000);
+                const uint32_t id = rng() % 3 == 0 ? 0 : 100 + rng() % 12;
+                for (size_t e = std::min(n, i + 1 + rng() % 80); i < e; ++i)
+                {
+                    ids[i] = id;
+                    sem[i] = uint16_t(id % 7);
+                    slots[i] = u(rng) < hole_rate ? -1 : int32_t(rng() % 1000);
+                }
             }
+            // Bands that start and end off the 16-pixel grid.
+            const size_t i0 = trial % 5, i1 = n - trial % 7;
+            std::vector<int32_t> p_ref(n, 77), p_fast(n, 77);
+            PredictedBand ref, got;
+            assignPredicted(ids.data(), sem.data(), slots.data(), p_ref.data(), i0, i1, ref, nullptr);
+            assignPredicted(ids.data(), sem.data(), slots.data(), p_fast.data(), i0, i1, got, fast);
+            ASSERT_EQ(p_fast, p_ref) << "trial " << trial;
+            ASSERT_EQ(got.ids, ref.ids);
+            ASSERT_EQ(got.area, ref.area);
+            ASSERT_EQ(got.cls, ref.cls);
         }
-        // Bands that start and end off the 16-pixel grid.
-        const size_t i0 = trial % 5, i1 = n - trial % 7;
-        std::vector<int32_t> p_ref(n, 77), p_fast(n, 77);
-        PredictedBand ref, got;
-        assignPredicted(ids.data(), sem.data(), slots.data(), p_ref.data(), i0, i1, ref, nullptr);
-        assignPredicted(ids.data(), sem.data(), slots.data(), p_fast.data(), i0, i1, got, fast);
-        ASSERT_EQ(p_fast, p_ref) << "trial " << trial;
-        ASSERT_EQ(got.ids, ref.ids);
-        ASSERT_EQ(got.area, ref.area);
-        ASSERT_EQ(got.cls, ref.cls);
+        // One instance throughout: the fast path settles every block by itself.
+        std::fill(ids.begin(), ids.end(), 42u);
+        std::vector<int32_t> p(n);
+        uint64_t run = 5;
+        ASSERT_EQ(fast(ids.data(), slots.data(), p.data(), n, 42, 3, run), n);
+        uint64_t mapped = 0;
+        for (size_t i = 0; i < n; ++i)
+        {
+            mapped += slots[i] >= 0;
+            ASSERT_EQ(p[i], slots[i] >= 0 ? 3 : kUnmappedPixel);
+        }
+        EXPECT_EQ(run, 5 + mapped);
     }
-    // One instance throughout: the fast path settles every block by itself.
-    std::fill(ids.begin(), ids.end(), 42u);
-    std::vector<int32_t> p(n);
-    uint64_t run = 5;
-    ASSERT_EQ(fast(ids.data(), slots.data(), p.data(), n, 42, 3, run), n);
-    uint64_t mapped = 0;
-    for (size_t i = 0; i < n; ++i)
-    {
-        mapped += slots[i] >= 0;
-        ASSERT_EQ(p[i], slots[i] >= 0 ? 3 : kUnmappedPixel);
-    }
-    EXPECT_EQ(run, 5 + mapped);
 }

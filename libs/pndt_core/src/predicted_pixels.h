@@ -20,6 +20,7 @@ using ContinueInstanceFn = size_t (*)(const uint32_t* ids, const int32_t* slots,
                                       uint32_t id, int32_t local, uint64_t& run);
 /// nullptr when the CPU (or the compiler) has no AVX-512 F.
 ContinueInstanceFn continueInstanceAvx512();
+ContinueInstanceFn continueInstanceAvx2();  ///< nullptr without AVX2
 /// The fastest version this CPU runs within simdCap(); nullptr: no fast path.
 ContinueInstanceFn bestContinueInstance();
 
