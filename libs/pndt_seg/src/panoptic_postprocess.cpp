@@ -4,8 +4,12 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <ctime>
 #include <cmath>
 #include <limits>
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
 
 #include "fast_exp.h"
 
@@ -29,69 +33,54 @@ PanopticPostprocessor::PanopticPostprocessor(const ClassSet& classes, std::vecto
     }
 }
 
-void PanopticPostprocessor::run(const PanopticTensors& t, PanopticFrame& out)
-{
-    if (t.width <= 0 || t.height <= 0 || !t.semantic)
-        throw InputError(fmt::format("postprocess: empty semantic output ({}x{})", t.width, t.height));
-    if (t.classes != int(channel_to_class_.size()))
-        throw InputError(fmt::format("postprocess: the semantic output has {} channels but the model description "
-                                     "names {} classes",
-                                     t.classes, channel_to_class_.size()));
-    if (t.center && !t.offset) throw InputError("postprocess: a centre heatmap needs an offset output");
-
-    semanticArgmax(t);
-    if (!t.center)
-    {
-        out.semantic = semantic_;
-        out.semantic_score = semantic_score_;
-        out.instance = {};
-        out.panoptic_score = {};
-        centers_.clear();
-        return;
-    }
-    findCenters(t);
-    groupThingPixels(t);
-
-    // Eq. 1: a thing pixel of instance z takes z's majority thing class (ties: smaller id).
-    const size_t C = classes_.size(), K = centers_.size(), N = size_t(t.width) * t.height;
-    std::vector<uint32_t>& votes = votes_;
-    votes.assign(K * C, 0);
-    for (size_t i = 0; i < N; ++i)
-        if (const uint32_t z = instance_.data[i]) ++votes[(z - 1) * C + semantic_.data[i]];
-    majority_.assign(K, 0);
-    for (size_t k = 0; k < K; ++k)
-    {
-        const uint32_t* v = &votes[k * C];
-        uint16_t best = 0;
-        for (size_t c = 1; c < C; ++c)
-            if (v[c] > v[best]) best = uint16_t(c);
-        majority_[k] = best;
-    }
-    out.semantic.resize(t.width, t.height);
-    out.semantic_score.resize(t.width, t.height);
-    out.instance.resize(t.width, t.height);
-    out.panoptic_score.resize(t.width, t.height);
-    for (size_t i = 0; i < N; ++i)
-    {
-        const uint32_t z = instance_.data[i];
-        out.semantic.data[i] = z ? majority_[z - 1] : semantic_.data[i];
-        out.semantic_score.data[i] = semantic_score_.data[i];
-        out.instance.data[i] = z;
-        out.panoptic_score.data[i] = z ? semantic_score_.data[i] * centers_[z - 1].score : 0.f;
-    }
-}
-
-// The hot loops, as free functions compiled twice (AVX2 + FMA, and the baseline) and picked at
-// load time by the CPU: a Debian binary cannot assume AVX2, most robots' CPUs have it.
-#if defined(__x86_64__) && defined(__GNUC__)
-#define PNDT_SIMD_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define PNDT_SIMD_CLONES
-#endif
-
 namespace
 {
-/// Running max and argmax over the channels of pixels [b0, b0 + n) of planar logits.
+// Pixel blocks small enough that their slices of all channels (41 × 2048 floats = 328 kB) stay in
+// L2 between the max pass and the softmax pass (L1 cannot hold them whatever the block: the
+// class planes lie a multiple of 4 kB apart, so one column of a block falls into one L1 set).
+constexpr size_t kBlock = 2048;
+// The softmax pass decides per sub-block which channels it can leave out.
+constexpr size_t kSubBlock = 128;
+// The grouping's centre grid: cells of 16 × 16 vote pixels over the image.
+constexpr int kGridCell = 16;
+
+/// CPU time of the calling thread (ms): what one core spends, whatever else the machine runs.
+double threadMs()
+{
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
+}
+
+/// n elements of `buf` whose address lies `shift` bytes (mod 4 kB) after `ref`'s: loads from the
+/// class planes and stores to the block scratch must not alias in the low 12 address bits.
+template <class T>
+T* scratch(std::vector<T>& buf, size_t n, const void* ref, size_t shift)
+{
+    buf.resize(n + 4096 / sizeof(T));
+    const size_t b = reinterpret_cast<uintptr_t>(buf.data()) % 4096, r = reinterpret_cast<uintptr_t>(ref) % 4096;
+    return buf.data() + ((r + shift + 4096 - b) % 4096) / sizeof(T);
+}
+
+/// Largest logit below every pixel's winner that a class may have and still be skipped in S^L.
+float skipMargin(float tolerance, int classes)
+{
+    if (!(tolerance > 0.f) || classes < 2) return std::numeric_limits<float>::infinity();
+    return float(std::log(double(classes - 1) / double(tolerance)));
+}
+
+// The hot loops, compiled twice (AVX2 + FMA, and the baseline) and picked at load time by the
+// CPU: a Debian binary cannot assume AVX2, most robots' CPUs have it.
+#if defined(__x86_64__) && defined(__GNUC__)
+#define PNDT_SIMD_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#define PNDT_HAVE_AVX2_KERNEL 1
+#else
+#define PNDT_SIMD_CLONES
+#define PNDT_HAVE_AVX2_KERNEL 0
+#endif
+
+/// Running max and argmax over the channels of pixels [b0, b0 + n) of planar logits (the exact
+/// path, for blocks with non-finite values).
 PNDT_SIMD_CLONES void blockArgmax(const float* semantic, size_t N, int C, size_t b0, size_t n,
                                   float* __restrict mx, int32_t* __restrict am)
 {
@@ -114,7 +103,7 @@ PNDT_SIMD_CLONES void blockArgmax(const float* semantic, size_t N, int C, size_t
     }
 }
 
-/// S^L = softmax of the winner = 1 / Σ_c exp(l_c − l_max); `sum` is scratch of n floats.
+/// S^L = softmax of the winner = 1 / Σ_c exp(l_c − l_max) over all channels (the exact path).
 PNDT_SIMD_CLONES void blockSoftmaxScore(const float* semantic, size_t N, int C, size_t b0, size_t n,
                                         const float* __restrict mx, float* __restrict sum, float* __restrict score)
 {
@@ -127,132 +116,413 @@ PNDT_SIMD_CLONES void blockSoftmaxScore(const float* semantic, size_t N, int C, 
     for (size_t i = 0; i < n; ++i) score[i] = 1.f / sum[i];
 }
 
-/// Index + 1 of the centre nearest to each (px, py); centres outer, pixels inner (vectorised).
-PNDT_SIMD_CLONES void blockNearestCentre(const float* __restrict px, const float* __restrict py, size_t n,
-                                         const float* __restrict cx, const float* __restrict cy, size_t K,
-                                         float* __restrict best_d, int32_t* __restrict best_k)
+/// One block's max pass: per pixel the max logit (v > mx ? v : mx, as blockArgmax). False if
+/// the block holds a non-finite logit (the caller then takes the exact path).
+bool blockMaxScalar(const float* semantic, size_t N, int C, size_t b0, size_t n, float* __restrict mx)
+{
+    float acc = 0.f;
+    for (int c = 0; c < C; ++c)
+    {
+        const float* __restrict p = semantic + size_t(c) * N + b0;
+        for (size_t i = 0; i < n; ++i)
+        {
+            const float v = p[i];
+            mx[i] = c == 0 || v > mx[i] ? v : mx[i];
+            acc += v;
+        }
+    }
+    return std::isfinite(acc);
+}
+
+/// One block's softmax pass. Per channel the largest l − mx over the block: a channel below
+/// −skip everywhere is left out of Σ exp(l − mx) (`sum`); one that reaches 0 somewhere is some
+/// pixel's max, and the first such channel of a pixel is its argmax (`am`).
+void blockSoftmaxScalar(const float* semantic, size_t N, int C, size_t b0, size_t n, const float* __restrict mx,
+                        float skip, bool logits, float* __restrict sum, int32_t* __restrict am)
 {
     for (size_t i = 0; i < n; ++i)
     {
-        best_d[i] = std::numeric_limits<float>::infinity();
-        best_k[i] = 0;
+        sum[i] = 0.f;
+        am[i] = -1;
     }
-    for (size_t k = 0; k < K; ++k)
+    for (int c = 0; c < C; ++c)
     {
-        const float x = cx[k], y = cy[k];
-        const int32_t id = int32_t(k + 1);
-        for (size_t i = 0; i < n; ++i)
-        {
-            const float ex = px[i] - x, ey = py[i] - y;
-            const float d = ex * ex + ey * ey;
-            const int32_t take = -int32_t(d < best_d[i]);  // strict: ties keep the earlier centre
-            best_k[i] = (id & take) | (best_k[i] & ~take);
-            best_d[i] = d < best_d[i] ? d : best_d[i];
-        }
+        const float* __restrict p = semantic + size_t(c) * N + b0;
+        float dmax = -std::numeric_limits<float>::infinity();
+        for (size_t i = 0; i < n; ++i) dmax = std::max(dmax, p[i] - mx[i]);
+        if (dmax >= 0.f)
+            for (size_t i = 0; i < n; ++i)
+                if (am[i] < 0 && p[i] == mx[i]) am[i] = c;
+        if (logits && !(dmax < -skip))
+            for (size_t i = 0; i < n; ++i) sum[i] += fastExpNonPositive(p[i] - mx[i]);
     }
 }
 
-// Pixel blocks small enough that their slices of all channels stay in L2 between passes.
-constexpr size_t kBlock = 2048;
+#if PNDT_HAVE_AVX2_KERNEL
+#define PNDT_AVX2 __attribute__((target("avx2,fma")))
+
+PNDT_AVX2 inline float hmax(__m256 v)
+{
+    __m128 m = _mm_max_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps(v, 1));
+    m = _mm_max_ps(m, _mm_movehl_ps(m, m));
+    m = _mm_max_ss(m, _mm_shuffle_ps(m, m, 1));
+    return _mm_cvtss_f32(m);
+}
+
+/// fastExpNonPositive, 8 lanes (the same operations; FMA rounds the polynomial once per step).
+PNDT_AVX2 inline __m256 exp8(__m256 x)
+{
+    x = _mm256_max_ps(x, _mm256_set1_ps(-87.f));
+    const __m256 t = _mm256_mul_ps(x, _mm256_set1_ps(kExpLog2e));
+    const __m256 r = _mm256_add_ps(t, _mm256_set1_ps(kExpRound));
+    const __m256 f = _mm256_sub_ps(t, _mm256_sub_ps(r, _mm256_set1_ps(kExpRound)));
+    __m256 p = _mm256_fmadd_ps(f, _mm256_set1_ps(kExpC5), _mm256_set1_ps(kExpC4));
+    p = _mm256_fmadd_ps(f, p, _mm256_set1_ps(kExpC3));
+    p = _mm256_fmadd_ps(f, p, _mm256_set1_ps(kExpC2));
+    p = _mm256_fmadd_ps(f, p, _mm256_set1_ps(kExpC1));
+    p = _mm256_fmadd_ps(f, p, _mm256_set1_ps(1.f));
+    const __m256i bits = _mm256_slli_epi32(_mm256_add_epi32(_mm256_castps_si256(r), _mm256_set1_epi32(127)), 23);
+    return _mm256_mul_ps(p, _mm256_castsi256_ps(bits));
+}
+
+/// blockMaxScalar for n a multiple of 8.
+PNDT_AVX2 bool blockMaxAvx2(const float* semantic, size_t N, int C, size_t b0, size_t n, float* __restrict mx)
+{
+    __m256 acc = _mm256_setzero_ps();
+    {
+        const float* p = semantic + b0;
+        for (size_t i = 0; i < n; i += 8)
+        {
+            const __m256 v = _mm256_loadu_ps(p + i);
+            _mm256_storeu_ps(mx + i, v);
+            acc = _mm256_add_ps(acc, v);
+        }
+    }
+    for (int c = 1; c < C; ++c)
+    {
+        const float* p = semantic + size_t(c) * N + b0;
+        for (size_t i = 0; i < n; i += 8)
+        {
+            const __m256 v = _mm256_loadu_ps(p + i);
+            _mm256_storeu_ps(mx + i, _mm256_max_ps(v, _mm256_loadu_ps(mx + i)));  // v > mx ? v : mx
+            acc = _mm256_add_ps(acc, v);
+        }
+    }
+    // Finite iff acc − acc == 0 in every lane (inf − inf and NaN give NaN).
+    const __m256 z = _mm256_sub_ps(acc, acc);
+    return _mm256_movemask_ps(_mm256_cmp_ps(z, z, _CMP_UNORD_Q)) == 0;
+}
+
+/// blockSoftmaxScalar for n a multiple of 8.
+PNDT_AVX2 void blockSoftmaxAvx2(const float* semantic, size_t N, int C, size_t b0, size_t n,
+                                const float* __restrict mx, float skip, bool logits, float* __restrict sum,
+                                int32_t* __restrict am)
+{
+    for (size_t i = 0; i < n; i += 8)
+    {
+        _mm256_storeu_ps(sum + i, _mm256_setzero_ps());
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(am + i), _mm256_set1_epi32(-1));
+    }
+    for (int c = 0; c < C; ++c)
+    {
+        const float* p = semantic + size_t(c) * N + b0;
+        // The channel's largest l − mx over the block: 0 if it is some pixel's max.
+        __m256 dm = _mm256_sub_ps(_mm256_loadu_ps(p), _mm256_loadu_ps(mx));
+        for (size_t i = 8; i < n; i += 8)
+            dm = _mm256_max_ps(dm, _mm256_sub_ps(_mm256_loadu_ps(p + i), _mm256_loadu_ps(mx + i)));
+        const float dmax = hmax(dm);
+        if (dmax >= 0.f)
+        {
+            const __m256i id = _mm256_set1_epi32(c);
+            for (size_t i = 0; i < n; i += 8)
+            {
+                __m256i* a = reinterpret_cast<__m256i*>(am + i);
+                const __m256i cur = _mm256_loadu_si256(a);
+                const __m256 eq = _mm256_cmp_ps(_mm256_loadu_ps(p + i), _mm256_loadu_ps(mx + i), _CMP_EQ_OQ);
+                const __m256i take = _mm256_and_si256(_mm256_castps_si256(eq), cur);  // cur < 0: sign bit
+                _mm256_storeu_si256(
+                    a, _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(cur), _mm256_castsi256_ps(id),
+                                                            _mm256_castsi256_ps(take))));
+            }
+        }
+        if (logits && !(dmax < -skip))
+            for (size_t i = 0; i < n; i += 8)
+            {
+                const __m256 d = _mm256_sub_ps(_mm256_loadu_ps(p + i), _mm256_loadu_ps(mx + i));
+                _mm256_storeu_ps(sum + i, _mm256_add_ps(_mm256_loadu_ps(sum + i), exp8(d)));
+            }
+    }
+}
+
+bool cpuHasAvx2()
+{
+    static const bool yes = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    return yes;
+}
+#endif
+
 }  // namespace
 
-void PanopticPostprocessor::semanticArgmax(const PanopticTensors& t)
+void PanopticPostprocessor::run(const PanopticTensors& t, PanopticFrame& out)
 {
-    const size_t N = size_t(t.width) * t.height;
-    argmax_.resize(N);
-    max_logit_.resize(N);
-    exp_sum_.resize(kBlock);
-    semantic_score_.resize(t.width, t.height);
-    for (size_t b0 = 0; b0 < N; b0 += kBlock)
+    if (t.width <= 0 || t.height <= 0 || !t.semantic)
+        throw InputError(fmt::format("postprocess: empty semantic output ({}x{})", t.width, t.height));
+    if (t.classes != int(channel_to_class_.size()))
+        throw InputError(fmt::format("postprocess: the semantic output has {} channels but the model description "
+                                     "names {} classes",
+                                     t.classes, channel_to_class_.size()));
+    if (t.center && !t.offset) throw InputError("postprocess: a centre heatmap needs an offset output");
+    timing_ = {};
+    const bool instances = t.center != nullptr;
+    const int W = t.width, H = t.height;
+    const size_t N = size_t(W) * H;
+    double t0 = threadMs();
+    if (instances)
     {
-        const size_t n = std::min(kBlock, N - b0);
-        blockArgmax(t.semantic, N, t.classes, b0, n, max_logit_.data() + b0, argmax_.data() + b0);
-        float* score = semantic_score_.data.data() + b0;
-        if (options_.semantic_is_logit)
-            blockSoftmaxScore(t.semantic, N, t.classes, b0, n, max_logit_.data() + b0, exp_sum_.data(), score);
+        findCenters(t);
+        buildCentreGrid(W, H);
+        votes_.assign(centers_.size() * classes_.size(), 0);
+        timing_.centres_ms = threadMs() - t0;
+        t0 = threadMs();
+    }
+    else
+        centers_.clear();
+
+    // Outputs written in place; resized (which fills) only when the size changes.
+    if (!out.semantic.sameSize(W, H)) out.semantic.resize(W, H);
+    if (!out.semantic_score.sameSize(W, H)) out.semantic_score.resize(W, H);
+    if (instances)
+    {
+        if (!out.instance.sameSize(W, H)) out.instance.resize(W, H);
+        if (!out.panoptic_score.sameSize(W, H)) out.panoptic_score.resize(W, H);
+    }
+    else
+    {
+        out.instance = {};
+        out.panoptic_score = {};
+    }
+    const int C = t.classes;
+    const bool logits = options_.semantic_is_logit;
+    const float skip = skipMargin(options_.score_tolerance, C);
+    const size_t blocks = (N + kBlock - 1) / kBlock;
+    block_has_instance_.assign(blocks, 0);
+    float* mx = scratch(max_logit_, kBlock, t.semantic, 1024);
+    float* sum = scratch(exp_sum_, kBlock, t.semantic, 2048);
+    int32_t* am = scratch(argmax_, kBlock, t.semantic, 3072);
+    for (size_t b = 0; b < blocks; ++b)
+    {
+        const size_t b0 = b * kBlock, n = std::min(kBlock, N - b0);
+        float* score = out.semantic_score.data.data() + b0;
+        bool finite;
+#if PNDT_HAVE_AVX2_KERNEL
+        const bool avx2 = n % 8 == 0 && cpuHasAvx2();
+        if (avx2)
+            finite = blockMaxAvx2(t.semantic, N, C, b0, n, mx);
         else
-            for (size_t i = 0; i < n; ++i) score[i] = std::clamp(max_logit_[b0 + i], 0.f, 1.f);
+#endif
+            finite = blockMaxScalar(t.semantic, N, C, b0, n, mx);
+        if (finite)
+        {
+            for (size_t s0 = 0; s0 < n; s0 += kSubBlock)
+            {
+                const size_t m = std::min(kSubBlock, n - s0);
+#if PNDT_HAVE_AVX2_KERNEL
+                if (avx2)
+                    blockSoftmaxAvx2(t.semantic, N, C, b0 + s0, m, mx + s0, skip, logits, sum + s0, am + s0);
+                else
+#endif
+                    blockSoftmaxScalar(t.semantic, N, C, b0 + s0, m, mx + s0, skip, logits, sum + s0, am + s0);
+            }
+            if (logits)
+                for (size_t i = 0; i < n; ++i) score[i] = 1.f / sum[i];
+        }
+        else
+        {
+            // A NaN or infinite logit: every channel, as the definition reads (and its errors).
+            blockArgmax(t.semantic, N, C, b0, n, mx, am);
+            if (logits) blockSoftmaxScore(t.semantic, N, C, b0, n, mx, sum, score);
+            for (size_t i = 0; i < n; ++i)
+                if (!std::isfinite(mx[i]) || (logits && !std::isfinite(score[i])))
+                    throw InputError(fmt::format("postprocess: non-finite semantic output at pixel ({}, {})",
+                                                 (b0 + i) % size_t(W), (b0 + i) / size_t(W)));
+        }
+        if (!logits)
+            for (size_t i = 0; i < n; ++i) score[i] = std::clamp(mx[i], 0.f, 1.f);
+        uint16_t* sem = out.semantic.data.data() + b0;
+        for (size_t i = 0; i < n; ++i) sem[i] = channel_to_class_[size_t(am[i])];
+        if (instances) groupBlock(t, b0, n, am, out);
     }
-    semantic_.resize(t.width, t.height);
-    for (size_t i = 0; i < N; ++i)
+    timing_.pixels_ms = threadMs() - t0;
+    if (!instances) return;
+    t0 = threadMs();
+
+    // Eq. 1: a thing pixel of instance z takes z's majority thing class (ties: smaller id).
+    const size_t CL = classes_.size(), K = centers_.size();
+    majority_.assign(K, 0);
+    for (size_t k = 0; k < K; ++k)
     {
-        if (!std::isfinite(max_logit_[i]) || !std::isfinite(semantic_score_.data[i]))
-            throw InputError(fmt::format("postprocess: non-finite semantic output at pixel ({}, {})",
-                                         i % size_t(t.width), i / size_t(t.width)));
-        semantic_.data[i] = channel_to_class_[size_t(argmax_[i])];
+        const uint32_t* v = &votes_[k * CL];
+        uint16_t best = 0;
+        for (size_t c = 1; c < CL; ++c)
+            if (v[c] > v[best]) best = uint16_t(c);
+        majority_[k] = best;
     }
+    for (size_t b = 0; b < blocks; ++b)
+    {
+        if (!block_has_instance_[b]) continue;
+        const size_t b0 = b * kBlock, n = std::min(kBlock, N - b0);
+        const uint32_t* inst = out.instance.data.data() + b0;
+        uint16_t* sem = out.semantic.data.data() + b0;
+        for (size_t i = 0; i < n; ++i)
+            if (inst[i]) sem[i] = majority_[inst[i] - 1];
+    }
+    timing_.merge_ms = threadMs() - t0;
 }
 
 void PanopticPostprocessor::findCenters(const PanopticTensors& t)
 {
     const size_t N = size_t(t.width) * t.height;
-    center_prob_.resize(N);
-    for (size_t i = 0; i < N; ++i)
+    const float* prob = t.center;
+    if (options_.center_is_logit)
     {
-        const float v = t.center[i];
-        center_prob_[i] = options_.center_is_logit ? 1.f / (1.f + std::exp(-v)) : v;
+        center_prob_.resize(N);
+        for (size_t i = 0; i < N; ++i) center_prob_[i] = 1.f / (1.f + std::exp(-t.center[i]));
+        prob = center_prob_.data();
     }
     // A centre is the maximum of its nms_kernel window (max-pool == value) above the threshold.
     center_max_.resize(N);
-    const cv::Mat prob(t.height, t.width, CV_32F, center_prob_.data());
+    const cv::Mat in(t.height, t.width, CV_32F, const_cast<float*>(prob));
     cv::Mat pooled(t.height, t.width, CV_32F, center_max_.data());
-    cv::dilate(prob, pooled, cv::getStructuringElement(cv::MORPH_RECT, {options_.nms_kernel, options_.nms_kernel}),
+    cv::dilate(in, pooled, cv::getStructuringElement(cv::MORPH_RECT, {options_.nms_kernel, options_.nms_kernel}),
                {-1, -1}, 1, cv::BORDER_CONSTANT, cv::Scalar(-std::numeric_limits<float>::infinity()));
     centers_.clear();
     for (int y = 0; y < t.height; ++y)
         for (int x = 0; x < t.width; ++x)
         {
             const size_t i = size_t(y) * t.width + x;
-            const float v = center_prob_[i];
+            const float v = prob[i];
             if (v > options_.center_threshold && v >= center_max_[i]) centers_.push_back({x, y, std::min(v, 1.f)});
         }
     // Highest first; ties in raster order (stable), so equal plateaus give one id order.
     std::stable_sort(centers_.begin(), centers_.end(),
                      [](const InstanceCenter& a, const InstanceCenter& b) { return a.score > b.score; });
     if (int(centers_.size()) > options_.top_k) centers_.resize(size_t(options_.top_k));
-}
-
-void PanopticPostprocessor::groupThingPixels(const PanopticTensors& t)
-{
-    const size_t N = size_t(t.width) * t.height;
-    instance_.resize(t.width, t.height, 0);
-    const size_t K = centers_.size();
-    if (K == 0) return;
-    const float* dy = options_.offset_yx ? t.offset : t.offset + N;
-    const float* dx = options_.offset_yx ? t.offset + N : t.offset;
-    const float s = options_.offset_scale;
-    centre_x_.resize(K);
-    centre_y_.resize(K);
-    for (size_t k = 0; k < K; ++k)
+    centre_x_.resize(centers_.size());
+    centre_y_.resize(centers_.size());
+    for (size_t k = 0; k < centers_.size(); ++k)
     {
         centre_x_[k] = float(centers_[k].x);
         centre_y_[k] = float(centers_[k].y);
     }
-    vote_x_.resize(kBlock);
-    vote_y_.resize(kBlock);
-    best_d_.resize(kBlock);
-    best_k_.resize(kBlock);
-    for (size_t b0 = 0; b0 < N; b0 += kBlock)
-    {
-        const size_t n = std::min(kBlock, N - b0);
-        // Each pixel votes for the point pixel + offset; it joins the centre nearest to it.
-        size_t x = b0 % size_t(t.width), y = b0 / size_t(t.width);  // walked, not divided per pixel
-        for (size_t i = 0; i < n; ++i)
+}
+
+void PanopticPostprocessor::buildCentreGrid(int width, int height)
+{
+    // Cells over the image; votes outside it are compared with every centre. A centre is listed
+    // in a cell if its smallest distance to the cell (grown by a pixel against rounding) is within
+    // the largest distance of the centre nearest to the whole cell, plus slack: no centre that
+    // can be the nearest (float distances, ties included) to a vote in the cell is left out.
+    grid_x0_ = 0.f;
+    grid_y0_ = 0.f;
+    grid_w_ = (width + kGridCell - 1) / kGridCell;
+    grid_h_ = (height + kGridCell - 1) / kGridCell;
+    grid_start_.assign(size_t(grid_w_) * grid_h_ + 1, 0);
+    grid_ids_.clear();
+    const size_t K = centers_.size();
+    std::vector<double>& mind = scratch_d_;
+    mind.resize(K);
+    for (int gy = 0; gy < grid_h_; ++gy)
+        for (int gx = 0; gx < grid_w_; ++gx)
         {
-            const size_t j = b0 + i;
-            vote_x_[i] = float(x) + s * dx[j];
-            vote_y_[i] = float(y) + s * dy[j];
-            if (++x == size_t(t.width))
+            const double x0 = grid_x0_ + gx * kGridCell - 1.0, x1 = grid_x0_ + (gx + 1) * kGridCell + 1.0;
+            const double y0 = grid_y0_ + gy * kGridCell - 1.0, y1 = grid_y0_ + (gy + 1) * kGridCell + 1.0;
+            double best_far = std::numeric_limits<double>::infinity();
+            for (size_t k = 0; k < K; ++k)
             {
-                x = 0;
-                ++y;
+                const double cx = centre_x_[k], cy = centre_y_[k];
+                const double nx = std::max({x0 - cx, 0.0, cx - x1}), ny = std::max({y0 - cy, 0.0, cy - y1});
+                const double fx = std::max(std::abs(x0 - cx), std::abs(x1 - cx));
+                const double fy = std::max(std::abs(y0 - cy), std::abs(y1 - cy));
+                mind[k] = nx * nx + ny * ny;
+                best_far = std::min(best_far, fx * fx + fy * fy);
             }
+            const double limit = best_far * (1 + 1e-4) + 1.0;
+            for (size_t k = 0; k < K; ++k)
+                if (mind[k] <= limit) grid_ids_.push_back(int32_t(k));
+            grid_start_[size_t(gy) * grid_w_ + gx + 1] = int32_t(grid_ids_.size());
         }
-        blockNearestCentre(vote_x_.data(), vote_y_.data(), n, centre_x_.data(), centre_y_.data(), K, best_d_.data(),
-                           best_k_.data());
-        for (size_t i = 0; i < n; ++i)
-            instance_.data[b0 + i] = channel_is_thing_[size_t(argmax_[b0 + i])] ? uint32_t(best_k_[i]) : 0u;
+}
+
+uint32_t PanopticPostprocessor::nearestCentre(float x, float y) const
+{
+    const float* cx = centre_x_.data();
+    const float* cy = centre_y_.data();
+    const float gx = (x - grid_x0_) * (1.f / kGridCell), gy = (y - grid_y0_) * (1.f / kGridCell);
+    size_t k0 = 0, k1 = centers_.size();
+    const int32_t* ids = nullptr;
+    if (gx >= 0.f && gx < float(grid_w_) && gy >= 0.f && gy < float(grid_h_))  // false for NaN
+    {
+        const size_t cell = size_t(gy) * size_t(grid_w_) + size_t(gx);
+        k0 = size_t(grid_start_[cell]);
+        k1 = size_t(grid_start_[cell + 1]);
+        ids = grid_ids_.data();
+        if (k1 - k0 == 1) return uint32_t(ids[k0]) + 1;
     }
+    // The nearest (strict <: ties keep the earlier centre); NaN votes join none.
+    float best_d = std::numeric_limits<float>::infinity();
+    uint32_t best = 0;
+    for (size_t j = k0; j < k1; ++j)
+    {
+        const size_t k = ids ? size_t(ids[j]) : j;
+        const float ex = x - cx[k], ey = y - cy[k];
+        const float d = ex * ex + ey * ey;
+        if (d < best_d)
+        {
+            best_d = d;
+            best = uint32_t(k) + 1;
+        }
+    }
+    return best;
+}
+
+void PanopticPostprocessor::groupBlock(const PanopticTensors& t, size_t b0, size_t n, const int32_t* am,
+                                       PanopticFrame& out)
+{
+    const size_t N = size_t(t.width) * t.height, W = size_t(t.width);
+    const float* dy = options_.offset_yx ? t.offset : t.offset + N;
+    const float* dx = options_.offset_yx ? t.offset + N : t.offset;
+    const float s = options_.offset_scale;
+    const size_t CL = classes_.size();
+    const float* score = out.semantic_score.data.data();
+    const uint16_t* sem = out.semantic.data.data();
+    uint32_t* inst = out.instance.data.data();
+    float* pan = out.panoptic_score.data.data();
+    const bool any_centre = !centers_.empty();
+    bool any = false;
+    // Each thing pixel votes for the point pixel + offset; it joins the centre nearest to it.
+    size_t x = b0 % W, y = b0 / W;  // walked, not divided per pixel
+    for (size_t i = 0; i < n; ++i)
+    {
+        const size_t j = b0 + i;
+        uint32_t z = 0;
+        if (any_centre && channel_is_thing_[size_t(am[i])])
+            z = nearestCentre(float(x) + s * dx[j], float(y) + s * dy[j]);
+        inst[j] = z;
+        if (z)
+        {
+            pan[j] = score[j] * centers_[z - 1].score;
+            ++votes_[(z - 1) * CL + sem[j]];
+            any = true;
+        }
+        else
+            pan[j] = 0.f;
+        if (++x == W)
+        {
+            x = 0;
+            ++y;
+        }
+    }
+    block_has_instance_[b0 / kBlock] = any;
 }
 
 void resizeLabels(const PanopticFrame& in, int width, int height, PanopticFrame& out)

@@ -21,6 +21,18 @@ struct PostprocessOptions
     bool semantic_is_logit = true;   ///< "semantic_activation": "softmax" (we apply it) | "none"
     bool offset_yx = true;           ///< "offset_order": "yx" (Panoptic-DeepLab) | "xy"
     float offset_scale = 1.0f;       ///< offset value × scale = output pixels, pixel → its centre
+    /// Bound on the relative error of S^L from the classes left out of its softmax sum: per block
+    /// of pixels, a class whose logit is below every pixel's winner by more than
+    /// T = ln((classes − 1) / score_tolerance) is skipped (its e^(l − l_max) < e^−T). 0 = never.
+    float score_tolerance = 1e-4f;
+};
+
+/// Where the last run() spent its time (milliseconds, one thread).
+struct PostprocessTiming
+{
+    double centres_ms = 0;   ///< centre heatmap: NMS (max filter), threshold, top-k
+    double pixels_ms = 0;    ///< one pass over the pixels: max/argmax, S^L, offset grouping of thing pixels
+    double merge_ms = 0;     ///< Eq. 1: majority class per instance, written back to its pixels
 };
 
 /// Planar float32 network outputs at one resolution (width × height).
@@ -55,27 +67,35 @@ class PanopticPostprocessor
     /// The centres the last run() kept (after NMS and top-k), highest score first.
     const std::vector<InstanceCenter>& centers() const { return centers_; }
 
+    const PostprocessTiming& lastTiming() const { return timing_; }
+
    private:
-    void semanticArgmax(const PanopticTensors& t);
     void findCenters(const PanopticTensors& t);
-    void groupThingPixels(const PanopticTensors& t);
+    void buildCentreGrid(int width, int height);
+    uint32_t nearestCentre(float x, float y) const;
+    void groupBlock(const PanopticTensors& t, size_t b0, size_t n, const int32_t* am, PanopticFrame& out);
 
     const ClassSet& classes_;
     std::vector<uint16_t> channel_to_class_;
     std::vector<uint8_t> channel_is_thing_;
     PostprocessOptions options_;
 
-    Image<uint16_t> semantic_;
-    Image<float> semantic_score_;
-    Image<uint32_t> instance_;
-    Image<float> instance_score_;
-    std::vector<int32_t> argmax_;  ///< winning channel per pixel (32-bit: vectorises with the floats)
-    std::vector<float> max_logit_, exp_sum_, center_max_, center_prob_;
+    PostprocessTiming timing_;
+    // Per block of pixels: winning channel (32-bit: vectorises with the floats), max logit, Σ exp.
+    std::vector<int32_t> argmax_;
+    std::vector<float> max_logit_, exp_sum_;
+    std::vector<float> center_max_, center_prob_;
     std::vector<InstanceCenter> centers_;
-    std::vector<float> centre_x_, centre_y_, vote_x_, vote_y_, best_d_;  ///< grouping scratch
-    std::vector<int32_t> best_k_;
-    std::vector<uint32_t> votes_;     ///< [centre][class] thing-pixel counts (Eq. 1)
-    std::vector<uint16_t> majority_;  ///< per centre
+    std::vector<float> centre_x_, centre_y_;
+    // Centre grid for the grouping: per cell of kGridCell² vote pixels, the centres that can be
+    // nearest to a vote in it (ascending), as ranges of grid_ids_.
+    float grid_x0_ = 0, grid_y0_ = 0;
+    int grid_w_ = 0, grid_h_ = 0;
+    std::vector<int32_t> grid_start_, grid_ids_;
+    std::vector<double> scratch_d_;
+    std::vector<uint32_t> votes_;          ///< [centre][class] thing-pixel counts (Eq. 1)
+    std::vector<uint16_t> majority_;       ///< per centre
+    std::vector<uint8_t> block_has_instance_;
 };
 
 /// Nearest-neighbour resampling of the four label images of `in` to width × height into `out`
