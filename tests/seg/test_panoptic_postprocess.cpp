@@ -4,7 +4,9 @@
 #include <pndt/panoptic_merge.h>
 #include <pndt/seg/panoptic_postprocess.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
 using namespace pndt;
@@ -298,4 +300,204 @@ TEST(ResizeLabels, DoublingRepeatsEachPixelTwiceEachWay)
     EXPECT_EQ(big.instance.data, (std::vector<uint32_t>{0, 0, 9, 9, 0, 0, 9, 9}));
     EXPECT_EQ(big.panoptic_score.at(1, 3), 0.25f);
     EXPECT_EQ(big.semantic_score.at(1, 0), 0.5f);
+}
+
+// ---- The fast paths: skipped classes in S^L, the sparse NMS, the centre grid of the grouping. ----
+
+namespace
+{
+/// S^L by the definition, in double.
+double exactScore(Tensors& t, int y, int x)
+{
+    double mx = -1e300, sum = 0;
+    for (int c = 0; c < t.C; ++c) mx = std::max(mx, double(t.logit(c, y, x)));
+    for (int c = 0; c < t.C; ++c) sum += std::exp(double(t.logit(c, y, x)) - mx);
+    return 1 / sum;
+}
+}  // namespace
+
+TEST(PanopticPostprocessFast, AClassCloseToTheWinnerAtOnePixelIsNotSkipped)
+{
+    // 256 x 1 (two 128-pixel sub-blocks, 8-pixel vectors), channels [void, wall, chair]. Chair sits
+    // 40 below everywhere (skipped), wall 30 below except at pixel 200, where it is only 5 below:
+    // its e^-5 = 0.0067 must be in that pixel's sum. Pixel 7: chair wins by 1 over void.
+    for (const int width : {256, 255})  // 255: the last block is not a whole number of vectors
+    {
+        Tensors t(width, 1, 3);
+        for (int x = 0; x < width; ++x)
+        {
+            t.logit(1, 0, x) = -30.f;
+            t.logit(2, 0, x) = -40.f;
+        }
+        t.logit(1, 0, 200) = -5.f;
+        t.logit(2, 0, 7) = 1.f;
+        PanopticPostprocessor p(nyu(), {0, kWall, kChair}, {});
+        PanopticFrame out;
+        p.run(t.view(false), out);
+        for (int x = 0; x < width; ++x)
+        {
+            EXPECT_EQ(out.semantic.at(0, x), x == 7 ? kChair : 0) << x;
+            EXPECT_NEAR(out.semantic_score.at(0, x), exactScore(t, 0, x), 2e-6) << x;
+        }
+        EXPECT_NEAR(out.semantic_score.at(0, 200), 1 / (1 + std::exp(-5.)), 2e-6);
+        EXPECT_NEAR(out.semantic_score.at(0, 7), 1 / (1 + std::exp(-1.)), 2e-6);
+    }
+}
+
+TEST(PanopticPostprocessFast, SkippedClassesStayWithinTheScoreTolerance)
+{
+    // 41 channels: a winner, a runner-up 2..14 below, the others 8..40 below: S^L within
+    // score_tolerance (+ 3e-6 for the exp) of the definition, and within 3e-6 with tolerance 0.
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> runner(2.f, 14.f), other(8.f, 40.f), level(-5.f, 15.f);
+    Tensors t(64, 8, 41);
+    std::vector<uint16_t> map(41);
+    for (int c = 0; c < 41; ++c) map[size_t(c)] = uint16_t(c);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 64; ++x)
+        {
+            const int win = (x / 16 + 3 * y) % 41, second = (win + 1) % 41;
+            const float l = level(rng);
+            for (int c = 0; c < 41; ++c)
+                t.logit(c, y, x) = c == win ? l : c == second ? l - runner(rng) : l - other(rng);
+        }
+    for (const float tolerance : {1e-4f, 1e-3f, 0.f})
+    {
+        PostprocessOptions o;
+        o.score_tolerance = tolerance;
+        PanopticPostprocessor p(nyu(), map, o);
+        PanopticFrame out;
+        p.run(t.view(false), out);
+        for (int y = 0; y < 8; ++y)
+            for (int x = 0; x < 64; ++x)
+            {
+                const double s = exactScore(t, y, x);
+                EXPECT_EQ(out.semantic.at(y, x), (x / 16 + 3 * y) % 41);
+                ASSERT_LE(std::abs(out.semantic_score.at(y, x) - s), (tolerance + 3e-6) * s) << tolerance;
+            }
+    }
+}
+
+TEST(PanopticPostprocessFast, NonFiniteLogitsAreFoundInEveryChannel)
+{
+    // A NaN in a channel that is nobody's winner still makes the frame an error (as the
+    // definition's sum would be NaN); −inf is a logit of probability 0.
+    Tensors t(16, 1, 3);
+    for (int x = 0; x < 16; ++x) t.logit(1, 0, x) = 4.f;
+    PanopticPostprocessor p(nyu(), {0, kWall, kChair}, {});
+    PanopticFrame out;
+    t.logit(2, 0, 9) = std::nanf("");
+    EXPECT_THROW(p.run(t.view(false), out), InputError);
+    t.logit(2, 0, 9) = -std::numeric_limits<float>::infinity();
+    p.run(t.view(false), out);
+    EXPECT_EQ(out.semantic.at(0, 9), kWall);
+    EXPECT_NEAR(out.semantic_score.at(0, 9), 1 / (1 + std::exp(-4.)), 2e-6);
+}
+
+namespace
+{
+/// Centres by the definition: above the threshold and ≥ every value of the window (image only).
+std::vector<InstanceCenter> referenceCentres(const Tensors& t, const PostprocessOptions& o)
+{
+    std::vector<InstanceCenter> c;
+    const int r = o.nms_kernel / 2;
+    for (int y = 0; y < t.H; ++y)
+        for (int x = 0; x < t.W; ++x)
+        {
+            const float v = t.center[size_t(y * t.W + x)];
+            bool peak = v > o.center_threshold;
+            for (int yy = std::max(0, y - r); peak && yy <= std::min(t.H - 1, y + r); ++yy)
+                for (int xx = std::max(0, x - r); peak && xx <= std::min(t.W - 1, x + r); ++xx)
+                    peak = v >= t.center[size_t(yy * t.W + xx)];
+            if (peak) c.push_back({x, y, std::min(v, 1.f)});
+        }
+    std::stable_sort(c.begin(), c.end(), [](const InstanceCenter& a, const InstanceCenter& b) { return a.score > b.score; });
+    if (int(c.size()) > o.top_k) c.resize(size_t(o.top_k));
+    return c;
+}
+}  // namespace
+
+TEST(PanopticPostprocessFast, CentresEqualTheDefinitionOnSmoothAndOnNoisyHeatmaps)
+{
+    // Smooth: Gaussian peaks (the sparse search), with a plateau of two equal maxima.
+    // Noisy: iid values above the threshold everywhere (too many local maxima: the max filter).
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    for (const bool noisy : {false, true})
+    {
+        Tensors t(96, 64, 2);
+        if (noisy)
+            for (auto& v : t.center) v = 0.2f + 0.8f * u(rng);
+        else
+        {
+            for (int k = 0; k < 12; ++k)
+            {
+                const float cx = 96 * u(rng), cy = 64 * u(rng), peak = 0.3f + 0.7f * u(rng);
+                for (int y = 0; y < 64; ++y)
+                    for (int x = 0; x < 96; ++x)
+                    {
+                        float& v = t.heat(y, x);
+                        v = std::max(v, peak * std::exp(-((x - cx) * (x - cx) + (y - cy) * (y - cy)) / 50.f));
+                    }
+            }
+            t.heat(30, 10) = t.heat(30, 12) = 1.f;  // a plateau: both are centres
+        }
+        PostprocessOptions o;
+        o.nms_kernel = 7;
+        PanopticPostprocessor p(nyu(), {0, kChair}, o);
+        PanopticFrame out;
+        p.run(t.view(), out);
+        const auto ref = referenceCentres(t, o);
+        ASSERT_EQ(p.centers().size(), ref.size()) << (noisy ? "noisy" : "smooth");
+        ASSERT_GE(ref.size(), noisy ? 20u : 5u);
+        for (size_t k = 0; k < ref.size(); ++k)
+        {
+            EXPECT_EQ(p.centers()[k].x, ref[k].x) << k;
+            EXPECT_EQ(p.centers()[k].y, ref[k].y) << k;
+            EXPECT_EQ(p.centers()[k].score, ref[k].score) << k;
+        }
+    }
+}
+
+TEST(PanopticPostprocessFast, GroupingEqualsTheNearestCentreForEveryVote)
+{
+    // 40 centres on a 160 x 120 output, thing pixels everywhere, offsets that send votes all over
+    // (outside the image too, a NaN): each pixel's instance is its vote's nearest centre by a
+    // brute-force search (ties: the earlier centre), whatever the grid cell it falls into.
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> u(0.f, 1.f), off(-60.f, 60.f);
+    Tensors t(160, 120, 2);
+    for (int y = 0; y < 120; ++y)
+        for (int x = 0; x < 160; ++x) t.logit(1, y, x) = 3.f;  // chair
+    for (int k = 0; k < 40; ++k) t.heat(int(120 * u(rng)), int(160 * u(rng))) = 0.2f + 0.8f * u(rng);
+    for (auto& v : t.offset) v = off(rng);
+    t.dy(5, 5) = std::nanf("");
+    t.dx(6, 6) = 500.f;
+    PostprocessOptions o;
+    o.nms_kernel = 3;
+    o.offset_scale = 0.75f;
+    PanopticPostprocessor p(nyu(), {0, kChair}, o);
+    PanopticFrame out;
+    p.run(t.view(), out);
+    const auto& cs = p.centers();
+    ASSERT_GE(cs.size(), 30u);
+    for (int y = 0; y < 120; ++y)
+        for (int x = 0; x < 160; ++x)
+        {
+            const float vx = float(x) + o.offset_scale * t.dx(y, x), vy = float(y) + o.offset_scale * t.dy(y, x);
+            float best = std::numeric_limits<float>::infinity();
+            uint32_t id = 0;
+            for (size_t k = 0; k < cs.size(); ++k)
+            {
+                const float ex = vx - float(cs[k].x), ey = vy - float(cs[k].y);
+                const float d = ex * ex + ey * ey;
+                if (d < best)
+                {
+                    best = d;
+                    id = uint32_t(k + 1);
+                }
+            }
+            ASSERT_EQ(out.instance.at(y, x), id) << x << "," << y;
+        }
+    EXPECT_EQ(out.instance.at(5, 5), 0u) << "a NaN vote joins no instance";
 }

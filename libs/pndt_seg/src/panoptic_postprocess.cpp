@@ -390,19 +390,62 @@ void PanopticPostprocessor::findCenters(const PanopticTensors& t)
         prob = center_prob_.data();
     }
     // A centre is the maximum of its nms_kernel window (max-pool == value) above the threshold.
-    center_max_.resize(N);
-    const cv::Mat in(t.height, t.width, CV_32F, const_cast<float*>(prob));
-    cv::Mat pooled(t.height, t.width, CV_32F, center_max_.data());
-    cv::dilate(in, pooled, cv::getStructuringElement(cv::MORPH_RECT, {options_.nms_kernel, options_.nms_kernel}),
-               {-1, -1}, 1, cv::BORDER_CONSTANT, cv::Scalar(-std::numeric_limits<float>::infinity()));
+    // Only pixels above the threshold can be centres, and each must be ≥ its 3×3 neighbours: on a
+    // network's smooth heatmap a handful of windows are checked. A heatmap with many local maxima
+    // above the threshold (noise) takes the max filter instead; both give the same centres.
+    const int W = t.width, H = t.height, r = options_.nms_kernel / 2;
+    const float thr = options_.center_threshold;
+    const size_t budget = 4 * N / size_t(options_.nms_kernel * options_.nms_kernel) + 64;
+    size_t checks = 0;
     centers_.clear();
-    for (int y = 0; y < t.height; ++y)
-        for (int x = 0; x < t.width; ++x)
+    const auto windowMax = [&](int x, int y, int rx, float v) {
+        for (int yy = std::max(0, y - rx); yy <= std::min(H - 1, y + rx); ++yy)
         {
-            const size_t i = size_t(y) * t.width + x;
-            const float v = prob[i];
-            if (v > options_.center_threshold && v >= center_max_[i]) centers_.push_back({x, y, std::min(v, 1.f)});
+            const float* row = prob + size_t(yy) * W;
+            for (int xx = std::max(0, x - rx); xx <= std::min(W - 1, x + rx); ++xx)
+                if (!(v >= row[xx])) return false;
         }
+        return true;
+    };
+    bool sparse = true;
+    for (int y = 0; y < H && sparse; ++y)
+    {
+        const float* row = prob + size_t(y) * W;
+        for (int x0 = 0; x0 < W && sparse; x0 += 64)
+        {
+            const int x1 = std::min(W, x0 + 64);
+            bool any = false;
+            for (int x = x0; x < x1; ++x) any |= row[x] > thr;
+            if (!any) continue;
+            for (int x = x0; x < x1; ++x)
+            {
+                const float v = row[x];
+                if (!(v > thr) || (r > 0 && !windowMax(x, y, 1, v))) continue;
+                if (++checks > budget)
+                {
+                    sparse = false;
+                    break;
+                }
+                if (windowMax(x, y, r, v)) centers_.push_back({x, y, std::min(v, 1.f)});
+            }
+        }
+    }
+    if (!sparse)
+    {
+        center_max_.resize(N);
+        const cv::Mat in(H, W, CV_32F, const_cast<float*>(prob));
+        cv::Mat pooled(H, W, CV_32F, center_max_.data());
+        cv::dilate(in, pooled, cv::getStructuringElement(cv::MORPH_RECT, {options_.nms_kernel, options_.nms_kernel}),
+                   {-1, -1}, 1, cv::BORDER_CONSTANT, cv::Scalar(-std::numeric_limits<float>::infinity()));
+        centers_.clear();
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x)
+            {
+                const size_t i = size_t(y) * W + x;
+                const float v = prob[i];
+                if (v > thr && v >= center_max_[i]) centers_.push_back({x, y, std::min(v, 1.f)});
+            }
+    }
     // Highest first; ties in raster order (stable), so equal plateaus give one id order.
     std::stable_sort(centers_.begin(), centers_.end(),
                      [](const InstanceCenter& a, const InstanceCenter& b) { return a.score > b.score; });
