@@ -7,9 +7,13 @@
 #include <pndt/app/layered_config.h>
 #include <pndt/app/map_config.h>
 #include <pndt/app/map_outputs.h>
+#include <pndt/app/map_rawlog.h>
+#include <pndt/app/pose_refinement.h>
 #include <pndt/class_set.h>
 #include <pndt/io/atomic_file.h>
 #include <pndt/live/live_pipeline.h>
+#include <pndt/live/mrpt_capture.h>
+#include <pndt/mrpt/config_section.h>
 
 #include <atomic>
 #include <csignal>
@@ -18,6 +22,7 @@
 #include <sstream>
 
 #include "mapper_settings.h"
+#include "refine_cli.h"
 
 using namespace pndt;
 using namespace pndt::app;
@@ -41,13 +46,20 @@ int main(int argc, char** argv)
     bool list_devices = false, no_registration = false, no_color = false;
     OniCaptureOptions cam;
     std::string intrinsics, out_dir = "out/live", model, up, record, pose_format = "rtabmap11", pose_frame,
-                                  pose_file, stamps = "device";
+                                  pose_file, stamps, capture_backend, mrpt_config;
     int pose_tcp = -1, pose_udp = -1;
     double label_wait = 0.25;
     double clock_offset = 0, pose_wait = 0.5, seconds = 0, period = -1, voxel_size = 0, grab_timeout = 3.0;
     uint64_t max_frames = 0;
     std::vector<std::string> presets, configs, sets;
     app.add_flag("--list-devices", list_devices, "list the OpenNI2 devices and exit");
+    app.add_option("--capture", capture_backend, "capture backend: openni2 (OpenNI2's own API, device stamps; the "
+                                                 "default) or mrpt (MRPT's COpenNI2Sensor, host stamps); config "
+                                                 "[pndt-live] capture")
+        ->check(CLI::IsMember({"openni2", "mrpt"}));
+    app.add_option("--mrpt-config", mrpt_config, "--capture mrpt: INI[:SECTION] with COpenNI2Sensor keys (calibration "
+                                                 "SECTION_LEFT/_RIGHT/_LEFT2RIGHT_POSE; SECTION defaults to OPENNI2); "
+                                                 "config [pndt-live] mrpt_config");
     app.add_option("-d,--device", cam.device, "device index, serial number or OpenNI2 URI (default: the first)");
     app.add_option("--width", cam.width)->capture_default_str();
     app.add_option("--height", cam.height)->capture_default_str();
@@ -70,9 +82,9 @@ int main(int argc, char** argv)
     app.add_option("--pose-wait", pose_wait, "seconds a frame waits for a pose at or after its stamp, then it is "
                                              "skipped and counted")
         ->capture_default_str();
-    app.add_option("--stamps", stamps, "frame clock: device (the camera's frame stamps) or host (time of grab)")
-        ->check(CLI::IsMember({"device", "host"}))
-        ->capture_default_str();
+    app.add_option("--stamps", stamps, "frame clock: device (the camera's frame stamps; openni2 default) or host "
+                                       "(time of grab; the only one --capture mrpt has)")
+        ->check(CLI::IsMember({"device", "host"}));
     app.add_option("--grab-timeout", grab_timeout, "seconds without a frame after which the camera counts as lost")
         ->capture_default_str();
     app.add_option("--label-wait", label_wait, "seconds the mapper waits for a frame's labels before mapping it "
@@ -92,6 +104,12 @@ int main(int argc, char** argv)
     app.add_option("-s,--set", sets, "override: section.key=value (repeatable)");
     app.add_option("--period", period, "short-term map period (config period_unit; 0 = one map)");
     app.add_option("--voxel-size", voxel_size, "voxel size in metres");
+    bool no_maps_rawlog = false, rawlog_inputs = false;
+    app.add_flag("--no-maps-rawlog", no_maps_rawlog, "do not write maps.rawlog (config maps_rawlog; as pndt-map)");
+    app.add_flag("--rawlog-inputs", rawlog_inputs,
+                 "interleave the recorded observations with the maps in maps.rawlog (config maps_rawlog_inputs)");
+    RefineCli refine_cli;  // as pndt-map's
+    refine_cli.addTo(app);
     CLI11_PARSE(app, argc, argv);
 
     std::signal(SIGINT, onSignal);
@@ -115,9 +133,31 @@ int main(int argc, char** argv)
         files.insert(files.end(), configs.begin(), configs.end());
         if (period >= 0) sets.push_back(fmt::format("pndt-map.period={}", period));
         if (voxel_size > 0) sets.push_back(fmt::format("MAP_PanopticNDTMap_00_creationOpts.voxel_size={}", voxel_size));
+        if (no_maps_rawlog) sets.push_back("pndt-map.maps_rawlog=false");
+        if (rawlog_inputs) sets.push_back("pndt-map.maps_rawlog_inputs=true");
         const auto cfg = loadLayeredConfig(files, sets);
-        rejectUnknownSections(cfg, {"pndt-map", "MAP"}, {"MAP_"});
+        rejectUnknownSections(cfg, {"pndt-map", "pndt-live", "MAP"}, {"MAP_"});
         MapperSettings settings = MapperSettings::load(cfg);
+        {
+            // [pndt-live]: what only the live app has; the command line wins.
+            ConfigSection live(cfg, "pndt-live");
+            std::string c_capture = "openni2", c_mrpt;
+            live.read("capture", c_capture);
+            live.read("mrpt_config", c_mrpt);
+            live.rejectUnknownKeys();
+            if (capture_backend.empty()) capture_backend = c_capture;
+            if (mrpt_config.empty()) mrpt_config = c_mrpt;
+            if (capture_backend != "openni2" && capture_backend != "mrpt")
+                throw std::runtime_error("config [pndt-live] capture = '" + capture_backend + "': openni2 or mrpt");
+        }
+        const bool use_mrpt = capture_backend == "mrpt";
+        if (use_mrpt && stamps == "device")
+            throw std::runtime_error("--capture mrpt: MRPT's COpenNI2Sensor stamps frames with the host clock when it "
+                                     "reads them (the device stamp is not passed on): use --stamps host or "
+                                     "--capture openni2");
+        if (!use_mrpt && !mrpt_config.empty())
+            throw std::runtime_error("--mrpt-config is for --capture mrpt");
+        if (stamps.empty()) stamps = use_mrpt ? "host" : "device";
         settings.short_term.out_dir = out_dir;
         const auto factory = mapFactory(cfg);
         const auto prototype = factory();
@@ -172,14 +212,42 @@ int main(int argc, char** argv)
             if (!(in >> K.fx >> K.fy >> K.cx >> K.cy)) throw std::runtime_error("--intrinsics '" + intrinsics + "' is not 'fx fy cx cy'");
             cam.K = K;
         }
-        OniCapture capture(cam);
-        auto grabber = grabberOf(capture);
+        std::optional<OniCapture> oni;
+        std::optional<MrptCapture> mrpt_capture;
+        std::unique_ptr<FrameGrabber> oni_grabber;
+        FrameGrabber* grabber = nullptr;
+        std::string camera_text;
+        if (use_mrpt)
+        {
+            MrptCaptureOptions mo;
+            mo.camera = cam;
+            if (const auto colon = mrpt_config.rfind(':'); colon != std::string::npos)
+            {
+                mo.ini = mrpt_config.substr(0, colon);
+                mo.section = mrpt_config.substr(colon + 1);
+            }
+            else
+                mo.ini = mrpt_config;
+            grabber = &mrpt_capture.emplace(mo);
+            camera_text = mrpt_capture->describe();
+        }
+        else
+        {
+            oni.emplace(cam);
+            oni_grabber = grabberOf(*oni);
+            grabber = oni_grabber.get();
+            camera_text = oni->describe() + (stamps == "device" ? "" : "; frames stamped with the host clock at grab");
+        }
+        std::optional<FramePoseRefinement> refinement = refine_cli.make();  // as pndt-map --refine (issue #22)
 
         std::filesystem::create_directories(out_dir);
         ShortTermMaps maps(factory, settings.short_term);
         LiveOptions lo;
         lo.pose_wait = pose_wait;
-        lo.device_stamps = stamps == "device";
+        // MRPT's own stamp is the host clock at its read: taken as the frame's stamp.
+        lo.device_stamps = use_mrpt || stamps == "device";
+        lo.rawlog_inputs = settings.maps_rawlog_inputs;
+        lo.refinement = refinement ? &*refinement : nullptr;
         lo.max_pose_gap = settings.pose_max_gap;
         lo.camera_pose = settings.camera_pose.value_or(mrpt::poses::CPose3D());
         lo.max_frames = max_frames;
@@ -188,7 +256,7 @@ int main(int argc, char** argv)
         lo.label_wait = label_wait;
         LivePipeline pipeline(*grabber, segmenter.get(), poses, maps, prototype->insertionOptions, lo);
 
-        fmt::print("pndt-live: {}\n", capture.describe());
+        fmt::print("pndt-live: {}\n", camera_text);
         fmt::print("poses     : ");
         for (const auto& s : sources) fmt::print("{}; ", s->describe());
         fmt::print("{} lines, {} frame\n", pose_format, pf == PoseFrame::Camera ? "camera" : "robot");
@@ -229,6 +297,18 @@ int main(int argc, char** argv)
                    poses.received(), poses.droppedOutOfOrder(), poses.bad_lines.load(), poses.connections.load());
         fmt::print("maps written       : {} in {} (index.json)\n", maps.index().size(), out_dir);
         if (!record.empty()) fmt::print("recording          : {} ({} frames)\n", record, s.recorded_frames);
+        if (const MapRawlogWriter* r = maps.rawlog())
+            fmt::print("maps.rawlog        : {} maps + {} input observations, {:.1f} MB\n", r->mapsWritten(),
+                       r->inputsWritten(), r->bytesWritten() / 1e6);
+        if (refinement)
+        {
+            refinement->writeTum(out_dir + "/refined_poses.tum");
+            fmt::print("pose refinement    : {}; poses in {}/refined_poses.tum\n",
+                       refinement->refiner().stats().summary(), out_dir);
+        }
+        if (mrpt_capture && mrpt_capture->replaced())
+            fmt::print("capture            : {} frames replaced by newer ones before the pipeline took them\n",
+                       mrpt_capture->replaced());
         if (const auto m = maps.current())
         {
             const PanopticMap& core = m->core();

@@ -30,6 +30,7 @@
 
 #include "dataset_source.h"
 #include "mapper_settings.h"
+#include "refine_cli.h"
 
 using namespace pndt;
 using namespace pndt::app;
@@ -107,12 +108,8 @@ int main(int argc, char** argv)
     app.add_option("--max-voxels", max_voxels,
                    "size budget of one map in voxels: a map reaching it is written and a new one started (0 = none)");
     app.add_flag("--no-progress", no_progress, "no progress bar");
-    bool refine_poses = false;
-    std::vector<std::string> refine_options;
-    app.add_flag("--refine", refine_poses,
-                 "register each frame to the current map before integrating it (NDT + Ceres, doc/refinement.md); "
-                 "writes refined_poses.tum");
-    app.add_option("--refine-option", refine_options, "refinement option key=value (repeatable; implies --refine)");
+    RefineCli refine_cli;
+    refine_cli.addTo(app);
     bool no_maps_rawlog = false, rawlog_inputs = false;
     app.add_flag("--no-maps-rawlog", no_maps_rawlog, "do not write maps.rawlog (config maps_rawlog)");
     app.add_flag("--rawlog-inputs", rawlog_inputs,
@@ -145,10 +142,10 @@ int main(int argc, char** argv)
         cfg.getAllSections(sections);
         for (const auto& s : sections)  // a typo in our sections must not be silently ignored
             if (s.rfind("MAP_PanopticNDTMap_", 0) == 0)
-                rejectUnknownSections(cfg, {"pndt-map", "MAP", "MAP_PanopticNDTMap_00_creationOpts",
+                rejectUnknownSections(cfg, {"pndt-map", "pndt-live", "MAP", "MAP_PanopticNDTMap_00_creationOpts",
                                             "MAP_PanopticNDTMap_00_insertOpts", "MAP_PanopticNDTMap_00_renderOpts"},
                                       {});
-        rejectUnknownSections(cfg, {"pndt-map", "MAP"}, {"MAP_"});
+        rejectUnknownSections(cfg, {"pndt-map", "pndt-live", "MAP"}, {"MAP_"});  // [pndt-live]: pndt-live's own
         MapperSettings settings = MapperSettings::load(cfg);
         settings.short_term.out_dir = out_dir;
         const auto factory = mapFactory(cfg);
@@ -180,14 +177,7 @@ int main(int argc, char** argv)
 
         // ---- replay
         ShortTermMaps maps(factory, settings.short_term);
-        std::optional<FramePoseRefinement> refinement;  // issue #22: against the localiser's errors
-        if (refine_poses || !refine_options.empty())
-        {
-            refine::RefineOptions ro;
-            ro.enabled = true;
-            for (const auto& kv : refine_options) setRefineOption(ro, kv);
-            refinement.emplace(ro);
-        }
+        std::optional<FramePoseRefinement> refinement = refine_cli.make();  // issue #22: against the localiser's errors
         ObservationPairer pairer;
         pairer.options = prototype->insertionOptions;
         std::optional<ReadAheadStream> stream;  // decoding overlaps with mapping

@@ -41,7 +41,7 @@ int main(int argc, char** argv)
 {
     CLI::App app{"pndt-pose-send: replay a pose file onto pndt-live's pose stream"};
     std::string file, to = "127.0.0.1:5555", format = "tum";
-    double rate = -1, speed = 1, connect_timeout = 10;
+    double rate = -1, speed = 1, connect_timeout = 10, stamp_offset = 0;
     size_t max_poses = 0;
     bool udp = false;
     app.add_option("file", file, "pose file (TUM or RTAB-Map 10/11 lines)")->required()->check(CLI::ExistingFile);
@@ -51,6 +51,8 @@ int main(int argc, char** argv)
         ->capture_default_str();
     app.add_option("--rate", rate, "poses per second (0 = as fast as possible); default: paced by the stamps");
     app.add_option("--speed", speed, "with stamp pacing: replay speed factor")->capture_default_str();
+    app.add_option("--stamp-offset", stamp_offset,
+                   "seconds added to every stamp sent (e.g. device time -> host clock for pndt-live --capture mrpt)");
     app.add_option("--max-poses", max_poses, "stop after this many poses (a localiser that stops)");
     app.add_option("--connect-timeout", connect_timeout, "seconds to keep trying to (re)connect")->capture_default_str();
     CLI11_PARSE(app, argc, argv);
@@ -68,7 +70,14 @@ int main(int argc, char** argv)
         std::string line;
         for (int n = 1; std::getline(in, line); ++n)
             if (auto p = live::parsePoseLine(line, lf, fmt::format("{} (line {})", file, n)))
+            {
+                if (stamp_offset != 0)  // the stamp (first field) replaced, the rest sent as read
+                {
+                    const auto b = line.find_first_not_of(" \t"), e = line.find_first_of(" \t,", b);
+                    line = fmt::format("{:.6f}", p->t + stamp_offset) + line.substr(e);
+                }
                 lines.emplace_back(p->t, line + "\n");
+            }
         if (max_poses > 0 && lines.size() > max_poses) lines.resize(max_poses);
         if (lines.empty()) throw std::runtime_error(file + ": no poses");
 

@@ -3,6 +3,7 @@
 #include <mrpt/system/datetime.h>
 #include <pndt/live/pose_stream.h>
 #include <pndt/mrpt/observation_frame.h>
+#include <fmt/format.h>
 
 #include <arpa/inet.h>
 #include <sys/socket.h>
@@ -10,6 +11,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <thread>
 
@@ -151,4 +153,81 @@ TEST(PoseSources, UdpDatagramsAndAFileBeingAppendedTo)
     EXPECT_EQ(f.bad_lines.load(), 0u);
     tail.reset();
     std::filesystem::remove(path);
+}
+
+namespace
+{
+/// A grabber .ini with section [POSES] for the test plug-in's PndtTestPoseGrabber.
+std::filesystem::path grabberIni(const std::string& name, const std::string& keys)
+{
+    const auto dir = std::filesystem::temp_directory_path() / ("pndt_grabber_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "poses.tum") << "# t x y z qx qy qz qw\n"
+                                        "1.0 1 2 3 0 0 0 1\n"
+                                        "1.5 1.5 2 3 0 0 0.2588190451 0.9659258263\n"
+                                        "2.0 2 2 3 0 0 0.5 0.8660254038\n";
+    const auto ini = dir / name;
+    std::ofstream(ini) << "[POSES]\n" << keys << "file = " << (dir / "poses.tum").string() << "\n";
+    return ini;
+}
+std::string errorOf(const std::function<void()>& f)
+{
+    try
+    {
+        f();
+    }
+    catch (const std::exception& e)
+    {
+        return e.what();
+    }
+    return "(no error)";
+}
+}  // namespace
+
+TEST(PoseSources, MrptGrabberRobotPosesFromAPluginSensorClass)
+{
+    const auto ini = grabberIni("ok.ini", fmt::format("driver = PndtTestPoseGrabber\nplugin = {}\nrate = 20\n",
+                                                      PNDT_POSE_GRABBER_PLUGIN));
+    LivePoseBuffer b("LIVE_POSE", 100.0);  // localiser clock + 100 s = frame clock
+    auto src = mrptGrabberPoses(ini.string(), "POSES", b);
+    EXPECT_NE(src->describe().find("[POSES]"), std::string::npos) << src->describe();
+    ASSERT_TRUE(waitCount(b, 3));
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    src.reset();
+    EXPECT_EQ(b.received(), 3u);  // the CObservationComments in between are not poses
+    EXPECT_EQ(b.bad_lines.load(), 0u);
+    EXPECT_NEAR(b.latest(), 102.0, 1e-6);
+    const auto got = b.take();
+    ASSERT_EQ(got.size(), 3u);
+    EXPECT_EQ(got[0]->sensorLabel, "LIVE_POSE");
+    EXPECT_NEAR(mrpt::Clock::toDouble(got[1]->timestamp), 101.5, 1e-6);
+    // The grabber's robot poses are taken as they are: their camera is the TUM file's.
+    const Pose cam = cameraPoseInWorld(got[2]->pose.mean, mrpt::poses::CPose3D());
+    EXPECT_NEAR(cam.translation().x(), 2.0, 1e-9);
+    EXPECT_NEAR(cam.translation().z(), 3.0, 1e-9);
+    const Eigen::Quaterniond q(cam.linear());
+    EXPECT_NEAR(std::abs(q.dot(Eigen::Quaterniond(0.8660254038, 0, 0, 0.5))), 1.0, 1e-9);
+}
+
+TEST(PoseSources, MrptGrabberErrorsNameTheFileAndSection)
+{
+    LivePoseBuffer b;
+    const auto plugin = std::string("plugin = ") + PNDT_POSE_GRABBER_PLUGIN + "\n";
+    std::string e = errorOf([&] { mrptGrabberPoses("/nonexistent/grabber.ini", "POSES", b); });
+    EXPECT_NE(e.find("/nonexistent/grabber.ini [POSES]: cannot open"), std::string::npos) << e;
+    auto ini = grabberIni("nodriver.ini", plugin);
+    e = errorOf([&] { mrptGrabberPoses(ini.string(), "POSES", b); });
+    EXPECT_NE(e.find("[POSES]: no 'driver' key"), std::string::npos) << e;
+    ini = grabberIni("unknown.ini", "driver = CNoSuchSensor\n");
+    e = errorOf([&] { mrptGrabberPoses(ini.string(), "POSES", b); });
+    EXPECT_NE(e.find("MRPT knows no sensor class 'CNoSuchSensor'"), std::string::npos) << e;
+    EXPECT_NE(e.find("plugin"), std::string::npos) << e;
+    ini = grabberIni("badplugin.ini", "driver = PndtTestPoseGrabber\nplugin = /nonexistent/libnothing.so\n");
+    e = errorOf([&] { mrptGrabberPoses(ini.string(), "POSES", b); });
+    EXPECT_NE(e.find("plugin '/nonexistent/libnothing.so' did not load"), std::string::npos) << e;
+    ini = grabberIni("fails.ini", "driver = PndtTestPoseGrabber\nfail_initialize = true\n" + plugin);
+    e = errorOf([&] { mrptGrabberPoses(ini.string(), "POSES", b); });
+    EXPECT_NE(e.find(ini.string() + " [POSES]: PndtTestPoseGrabber did not initialise"), std::string::npos) << e;
+    EXPECT_NE(e.find("told to fail"), std::string::npos) << e;
+    EXPECT_EQ(b.received(), 0u);
 }

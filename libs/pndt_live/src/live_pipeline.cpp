@@ -1,5 +1,6 @@
 #include <fmt/format.h>
 #include <mrpt/system/datetime.h>
+#include <pndt/app/map_rawlog.h>
 #include <pndt/live/live_pipeline.h>
 #include <pndt/mrpt/observation_frame.h>
 #include <pndt/mrpt/rawlog_frames.h>
@@ -135,9 +136,10 @@ void LivePipeline::captureLoop(const std::atomic<bool>& stop)
         {
             if (stop) break;
             stats_.camera_unplugged = grabber_.disconnected();
-            stats_.camera_error = stats_.camera_unplugged
-                                      ? std::string("the camera was disconnected")
-                                      : fmt::format("no frame from the camera for {:.1f} s", o_.grab_timeout);
+            const std::string reason = grabber_.lostReason();
+            stats_.camera_error = stats_.camera_unplugged ? std::string("the camera was disconnected")
+                                  : !reason.empty()       ? reason
+                                                          : fmt::format("no frame from the camera for {:.1f} s", o_.grab_timeout);
             stats_.camera_lost = true;
             break;
         }
@@ -175,6 +177,7 @@ void LivePipeline::captureLoop(const std::atomic<bool>& stop)
         }
         q_->cv.notify_all();
     }
+    grabber_.stopCapture();
     {
         std::lock_guard<std::mutex> lk(q_->m);
         q_->capture_done = true;
@@ -264,9 +267,15 @@ void LivePipeline::mapItem(Item& it, std::vector<PairedFrame>& done)
     }
     if (pose_gap_reported_) fmt::print(stderr, "\npndt-live: poses again at t={:.3f} s\n", it.t);
     pose_gap_reported_ = false;
+    // What is recorded goes, in the same order, into maps.rawlog when inputs are interleaved:
+    // the order a replay of the recording reads them.
+    const auto emit = [&](const mrpt::obs::CObservation::Ptr& o) {
+        if (q_->recorder) q_->recorder->push(o);
+        if (o_.rawlog_inputs && maps_.rawlog()) maps_.rawlog()->addInput(o);
+    };
     for (auto& p : poses_.take())
     {
-        if (q_->recorder) q_->recorder->push(p);
+        emit(p);
         track_.addRobotPose(*p);
     }
     const auto T = track_.cameraAt(it.t, it.frame.scan->sensorPose);
@@ -275,12 +284,9 @@ void LivePipeline::mapItem(Item& it, std::vector<PairedFrame>& done)
         ++stats_.no_pose_skipped;
         return;
     }
-    if (q_->recorder)
-    {
-        q_->recorder->push(it.frame.scan);
-        if (it.semantic) q_->recorder->push(it.semantic), q_->recorder->push(it.instance);
-        ++stats_.recorded_frames;
-    }
+    emit(it.frame.scan);
+    if (it.semantic) emit(it.semantic), emit(it.instance);
+    if (q_->recorder) ++stats_.recorded_frames;
     pairer_.pushScan(*it.frame.scan, *T, done);
     if (it.semantic)
     {
@@ -295,7 +301,11 @@ void LivePipeline::mappingLoop()
     const auto integrateDone = [&] {
         for (PairedFrame& p : done)
         {
-            maps_.integrate(p.frame, p.T_world_cam, mrpt::Clock::toDouble(p.stamp));
+            const double t = mrpt::Clock::toDouble(p.stamp);
+            if (o_.refinement)
+                p.T_world_cam = o_.refinement->refine(maps_.current() ? &maps_.current()->core() : nullptr, p.frame,
+                                                      p.T_world_cam, t);
+            maps_.integrate(p.frame, p.T_world_cam, t);
             ++stats_.mapped;
             last_ = std::move(p);
         }

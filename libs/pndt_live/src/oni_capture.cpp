@@ -30,7 +30,9 @@ std::string serialOf(openni::Device& d)
     return s;
 }
 
-struct DisconnectListener : public openni::OpenNI::DeviceDisconnectedListener
+}  // namespace
+
+struct OniDisconnectWatch::Listener : public openni::OpenNI::DeviceDisconnectedListener
 {
     std::string uri;
     std::atomic<bool> gone{false};
@@ -39,7 +41,15 @@ struct DisconnectListener : public openni::OpenNI::DeviceDisconnectedListener
         if (uri == info->getUri()) gone = true;
     }
 };
-}  // namespace
+
+OniDisconnectWatch::OniDisconnectWatch(const std::string& uri) : l_(std::make_unique<Listener>())
+{
+    initOpenNI();
+    l_->uri = uri;
+    openni::OpenNI::addDeviceDisconnectedListener(l_.get());
+}
+OniDisconnectWatch::~OniDisconnectWatch() { openni::OpenNI::removeDeviceDisconnectedListener(l_.get()); }
+bool OniDisconnectWatch::gone() const { return l_->gone; }
 
 std::vector<OniDeviceEntry> listOniDevices()
 {
@@ -62,12 +72,49 @@ std::vector<OniDeviceEntry> listOniDevices()
     return out;
 }
 
+std::string resolveOniDevice(const std::string& device, int* index)
+{
+    initOpenNI();
+    openni::Array<openni::DeviceInfo> list;
+    openni::OpenNI::enumerateDevices(&list);
+    std::string uri;
+    int at = -1;
+    if (device.empty())
+    {
+        if (list.getSize() == 0)
+            throw std::runtime_error("no OpenNI2 device found (is the camera plugged in? pndt-live --list-devices)");
+        at = 0;
+    }
+    else if (device.find_first_not_of("0123456789") == std::string::npos)
+    {
+        at = std::stoi(device);
+        if (at >= list.getSize())
+            throw std::runtime_error(fmt::format("OpenNI2 device {}: only {} device(s) found (pndt-live --list-devices)",
+                                                 at, list.getSize()));
+    }
+    else
+    {
+        for (int i = 0; i < list.getSize() && at < 0; ++i)
+        {
+            if (device == list[i].getUri()) at = i;
+            openni::Device d;
+            if (at < 0 && d.open(list[i].getUri()) == openni::STATUS_OK)
+            {
+                if (serialOf(d) == device) at = i;
+                d.close();
+            }
+        }
+    }
+    if (index) *index = at;
+    return at >= 0 ? list[at].getUri() : device;  // else a URI the enumeration did not list (e.g. a file)
+}
+
 struct OniCapture::Impl
 {
     OniCaptureOptions o;
     openni::Device device;
     openni::VideoStream depth, color;
-    DisconnectListener listener;
+    std::unique_ptr<OniDisconnectWatch> watch;
     CameraIntrinsics K;
     std::string uri, name;
     uint64_t index = 0;
@@ -98,44 +145,13 @@ OniCapture::OniCapture(const OniCaptureOptions& o) : d_(std::make_unique<Impl>()
 {
     initOpenNI();
     d_->o = o;
-    openni::Array<openni::DeviceInfo> list;
-    openni::OpenNI::enumerateDevices(&list);
-    std::string uri;
-    if (o.device.empty())
-    {
-        if (list.getSize() == 0)
-            throw std::runtime_error("no OpenNI2 device found (is the camera plugged in? pndt-live --list-devices)");
-        uri = list[0].getUri();
-    }
-    else if (o.device.find_first_not_of("0123456789") == std::string::npos)
-    {
-        const int i = std::stoi(o.device);
-        if (i >= list.getSize())
-            throw std::runtime_error(fmt::format("OpenNI2 device {}: only {} device(s) found (pndt-live --list-devices)",
-                                                 i, list.getSize()));
-        uri = list[i].getUri();
-    }
-    else
-    {
-        for (int i = 0; i < list.getSize() && uri.empty(); ++i)
-        {
-            if (o.device == list[i].getUri()) uri = o.device;
-            openni::Device d;
-            if (uri.empty() && d.open(list[i].getUri()) == openni::STATUS_OK)
-            {
-                if (serialOf(d) == o.device) uri = list[i].getUri();
-                d.close();
-            }
-        }
-        if (uri.empty()) uri = o.device;  // a URI the enumeration did not list (e.g. a file)
-    }
+    const std::string uri = resolveOniDevice(o.device);
     if (d_->device.open(uri.c_str()) != openni::STATUS_OK)
         throw std::runtime_error(fmt::format("OpenNI2 device '{}': cannot open: {}", o.device.empty() ? uri : o.device,
                                              openni::OpenNI::getExtendedError()));
     d_->uri = uri;
     d_->name = d_->device.getDeviceInfo().getName();
-    d_->listener.uri = uri;
-    openni::OpenNI::addDeviceDisconnectedListener(&d_->listener);
+    d_->watch = std::make_unique<OniDisconnectWatch>(uri);
     if (d_->depth.create(d_->device, openni::SENSOR_DEPTH) != openni::STATUS_OK)
         throw std::runtime_error(fmt::format("OpenNI2 device '{}': no depth stream: {}", uri,
                                              openni::OpenNI::getExtendedError()));
@@ -178,7 +194,7 @@ OniCapture::OniCapture(const OniCaptureOptions& o) : d_(std::make_unique<Impl>()
 
 OniCapture::~OniCapture()
 {
-    openni::OpenNI::removeDeviceDisconnectedListener(&d_->listener);
+    d_->watch.reset();
     d_->depth.stop();
     d_->color.stop();
     d_->depth.destroy();
@@ -186,7 +202,7 @@ OniCapture::~OniCapture()
     d_->device.close();
 }
 
-bool OniCapture::disconnected() const { return d_->listener.gone; }
+bool OniCapture::disconnected() const { return d_->watch->gone(); }
 const CameraIntrinsics& OniCapture::intrinsics() const { return d_->K; }
 std::string OniCapture::describe() const
 {
@@ -202,7 +218,7 @@ std::optional<CapturedFrame> OniCapture::grab(double timeout_s)
     while (!depth.isValid())
     {
         // After a disconnect, frames already delivered are still read (a short grace period).
-        const bool gone = d.listener.gone;
+        const bool gone = d.watch->gone();
         const int left_ms = gone ? 50
                                  : int(std::chrono::duration<double, std::milli>(deadline - std::chrono::steady_clock::now())
                                            .count());
@@ -226,7 +242,7 @@ std::optional<CapturedFrame> OniCapture::grab(double timeout_s)
     {
         const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(200);
         while ((!d.have_color || d.last_color.getTimestamp() < depth.getTimestamp()) &&
-               std::chrono::steady_clock::now() < until && !d.listener.gone)
+               std::chrono::steady_clock::now() < until && !d.watch->gone())
         {
             openni::VideoStream* s = &d.color;
             int ready = -1;

@@ -6,6 +6,7 @@
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/hwdrivers/CGenericSensor.h>
+#include <mrpt/system/os.h>
 #include <pndt/mrpt/observation_frame.h>
 
 #include <arpa/inet.h>
@@ -49,6 +50,7 @@ void LivePoseBuffer::add(const mrpt::obs::CObservationRobotPose& p)
 {
     auto o = std::make_shared<mrpt::obs::CObservationRobotPose>(p);
     o->sensorLabel = label_;
+    if (offset_ != 0) o->timestamp = mrpt::Clock::fromDouble(mrpt::Clock::toDouble(p.timestamp) + offset_);
     push(std::move(o));
 }
 
@@ -313,8 +315,20 @@ class GrabberSource : public PoseSource
         mrpt::config::CConfigFile cfg(ini);
         const std::string driver = cfg.read_string(section, "driver", "");
         if (driver.empty()) throw std::runtime_error(where_ + ": no 'driver' key (the MRPT sensor class)");
+        // MRPT's own sensor classes give no CObservationRobotPose: the class producing them is
+        // usually the user's own, in a plug-in module (comma-separated list) registering it.
+        const std::string plugin = cfg.read_string(section, "plugin", "");
+        if (!plugin.empty())
+        {
+            std::string errors;
+            if (!mrpt::system::loadPluginModules(plugin, errors))
+                throw std::runtime_error(fmt::format("{}: plugin '{}' did not load: {}", where_, plugin, errors));
+        }
         sensor_ = mrpt::hwdrivers::CGenericSensor::createSensorPtr(driver);
-        if (!sensor_) throw std::runtime_error(fmt::format("{}: MRPT knows no sensor class '{}'", where_, driver));
+        if (!sensor_)
+            throw std::runtime_error(fmt::format("{}: MRPT knows no sensor class '{}' (a class of your own: name its "
+                                                 "module in the key plugin = lib.so)",
+                                                 where_, driver));
         try
         {
             sensor_->loadConfig(cfg, section);

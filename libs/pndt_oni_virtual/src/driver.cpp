@@ -1,7 +1,7 @@
 // OpenNI2 driver of a virtual RGB-D camera (OniDriverAPI): announces one device and streams
 // the pndt_sim scene of virtual_scene.h — DEPTH_1_MM, RGB888 and (because MRPT's
 // COpenNI2Sensor opens it) an IR stream in RGB888 — at the configured size and rate, stamped
-// with device time k / fps. The OpenNI2 runtime loads it from
+// with device time k / fps (clock_file: the host clock at device time 0). The OpenNI2 runtime loads it from
 // <folder of libOpenNI2.so.0 as loaded>/OpenNI2/Drivers/libPndtVirtualCamera.so.0.
 #define XN_NEW(type, arg) new type(arg)
 #define XN_DELETE(p) delete (p)
@@ -136,6 +136,18 @@ class VirtualStream : public oni::driver::StreamBase
     {
         const auto& c = s_->config;
         const auto t0 = std::chrono::steady_clock::now();
+        if (type_ == ONI_SENSOR_DEPTH && !c.clock_file.empty())
+        {
+            // The host clock at device time 0 (written, then renamed: readers see all or nothing).
+            const double host0 = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+            const std::string tmp = c.clock_file + ".tmp";
+            if (FILE* f = std::fopen(tmp.c_str(), "w"))
+            {
+                std::fprintf(f, "%.6f\n", host0);
+                std::fclose(f);
+                std::rename(tmp.c_str(), c.clock_file.c_str());
+            }
+        }
         const int W = c.width, H = c.height, bpp = bytesPerPixel();
         for (int64_t k = 0; running_; ++k)
         {
@@ -146,6 +158,7 @@ class VirtualStream : public oni::driver::StreamBase
                 if (!s_->unplugged.exchange(true) && s_->on_unplug) s_->on_unplug();
                 break;
             }
+            if (c.freeze_after > 0 && k >= c.freeze_after) continue;  // a hung camera: silent, still "connected"
             OniFrame* f = getServices().acquireFrame();
             if (!f) continue;
             const size_t i = size_t(k % c.loop_frames);

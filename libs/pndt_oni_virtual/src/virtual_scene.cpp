@@ -55,9 +55,11 @@ VirtualCameraConfig VirtualCameraConfig::fromFile(const std::string& path)
         else if (key == "radius") ok = bool(v >> c.radius);
         else if (key == "eye_height") ok = bool(v >> c.eye_height);
         else if (key == "unplug_after") ok = bool(v >> c.unplug_after);
+        else if (key == "freeze_after") ok = bool(v >> c.freeze_after);
         else if (key == "serial") c.serial = value;
         else if (key == "uri") c.uri = value;
         else if (key == "pose_seconds") ok = bool(v >> c.pose_seconds);
+        else if (key == "clock_file") c.clock_file = value;
         else throw std::runtime_error(where + ": unknown key '" + key + "'");
         if (!ok) throw std::runtime_error(where + ": bad value '" + value + "' for " + key);
     }

@@ -13,6 +13,7 @@
 //  - writers: the recording (own thread) and the short-term maps' writer (ShortTermMaps).
 #pragma once
 
+#include <pndt/app/pose_refinement.h>
 #include <pndt/app/pose_track.h>
 #include <pndt/app/short_term_maps.h>
 #include <pndt/live/oni_capture.h>
@@ -27,13 +28,17 @@
 
 namespace pndt::live
 {
-/// Where frames come from: an OpenNI2 device, or a test double.
+/// Where frames come from: an OpenNI2 device (OniCapture, MrptCapture), or a test double.
 class FrameGrabber
 {
    public:
     virtual ~FrameGrabber() = default;
     virtual std::optional<CapturedFrame> grab(double timeout_s) = 0;
     virtual bool disconnected() const = 0;
+    /// Why frames stopped, when the grabber knows better than "disconnected" / "no frame".
+    virtual std::string lostReason() const { return {}; }
+    /// The pipeline takes no more frames (the device may stop streaming).
+    virtual void stopCapture() {}
 };
 std::unique_ptr<FrameGrabber> grabberOf(OniCapture& c);
 
@@ -53,6 +58,12 @@ struct LiveOptions
     double grab_timeout = 3.0;     ///< seconds without a frame = camera lost
     uint64_t max_frames = 0;       ///< stop after this many captured frames (0 = until stopped)
     std::string record;            ///< rawlog of what was seen (empty = none)
+    /// Interleave what is recorded (poses, scans, labels: what a replay of the recording reads,
+    /// in its order) with the maps in the short-term maps' maps.rawlog, as pndt-map's
+    /// maps_rawlog_inputs does with its input.
+    bool rawlog_inputs = false;
+    /// Frame-to-map pose refinement before integration, as pndt-map --refine (null = none).
+    app::FramePoseRefinement* refinement = nullptr;
     std::string pose_label = "LIVE_POSE";
 };
 

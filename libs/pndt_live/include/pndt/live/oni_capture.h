@@ -25,6 +25,24 @@ struct OniDeviceEntry
 };
 /// Devices OpenNI2 enumerates (initialises OpenNI2; throws with its error text).
 std::vector<OniDeviceEntry> listOniDevices();
+/// The URI of the device `device` names ("" = the first, a number = index, a serial number or
+/// a URI), through OpenNI2's enumeration; `index` (if given) gets its position in the list, or
+/// -1 for a URI the enumeration does not list. Throws naming the device.
+std::string resolveOniDevice(const std::string& device, int* index = nullptr);
+
+/// Notices OpenNI2's report that the device with `uri` went away (whoever opened it: also a
+/// device MRPT's COpenNI2Sensor opened in this process).
+class OniDisconnectWatch
+{
+   public:
+    explicit OniDisconnectWatch(const std::string& uri);
+    ~OniDisconnectWatch();
+    bool gone() const;
+
+   private:
+    struct Listener;
+    std::unique_ptr<Listener> l_;
+};
 
 struct OniCaptureOptions
 {

@@ -94,8 +94,12 @@ std::unique_ptr<PoseSource> tailPoseFile(const std::string& path, LineFormat f, 
 
 /// Runs an MRPT grabber (any mrpt::hwdrivers::CGenericSensor, e.g. one whose observations
 /// are CObservationRobotPose) from section `section` of the .ini file `ini` (its `driver` key
-/// names the class, as for rawlog-grabber) and takes its CObservationRobotPose observations.
-/// Throws naming the file and section if the driver is unknown or does not initialise.
+/// names the class, as for rawlog-grabber) and takes its CObservationRobotPose observations
+/// (robot frame; the buffer's clock offset added; other observations ignored). MRPT 2.5.8's
+/// own sensor classes produce none, so the section's `plugin` key may name modules (comma-
+/// separated .so files, mrpt::system::loadPluginModules) that register the class. Throws
+/// naming the file and section if a plugin does not load, the driver is unknown or does not
+/// initialise.
 std::unique_ptr<PoseSource> mrptGrabberPoses(const std::string& ini, const std::string& section,
                                              LivePoseBuffer& buffer);
 

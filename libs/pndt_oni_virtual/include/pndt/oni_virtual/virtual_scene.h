@@ -24,9 +24,14 @@ struct VirtualCameraConfig
     double radius = 2.3;       ///< orbit around the room centre, metres
     double eye_height = 1.5;
     int unplug_after = 0;      ///< frames after which the device reports itself unplugged (0 = never)
+    int freeze_after = 0;      ///< frames after which the streams go silent, nothing reported (0 = never)
     std::string serial = "PNDT0001";
     std::string uri = "pndt://virtual/0";
     double pose_seconds = 120; ///< length of the TUM pose file writeTrajectoryTum writes
+    /// If set: when the depth stream starts, the host clock (Unix seconds) at its device time 0
+    /// is written there, so poses can be put on the host clock (pndt-pose-send --stamp-offset)
+    /// for capture backends that stamp frames with the host clock (pndt-live --capture mrpt).
+    std::string clock_file;
 
     /// The file named by $PNDT_VIRTUAL_CAMERA, else the defaults.
     static VirtualCameraConfig fromEnvironment();

@@ -1,0 +1,38 @@
+// --refine / --refine-option of pndt-map and pndt-live (issue #22): frame-to-map pose
+// refinement before integration, written as refined_poses.tum.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <pndt/app/pose_refinement.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace pndt::app
+{
+struct RefineCli
+{
+    bool enabled = false;
+    std::vector<std::string> options;
+
+    void addTo(CLI::App& app)
+    {
+        app.add_flag("--refine", enabled,
+                     "register each frame to the current map before integrating it (NDT + Ceres, doc/refinement.md); "
+                     "writes refined_poses.tum");
+        app.add_option("--refine-option", options, "refinement option key=value (repeatable; implies --refine)");
+    }
+    /// The refinement asked for, if any (throws std::invalid_argument on a bad option).
+    std::optional<FramePoseRefinement> make() const
+    {
+        std::optional<FramePoseRefinement> r;
+        if (!enabled && options.empty()) return r;
+        refine::RefineOptions ro;
+        ro.enabled = true;
+        for (const auto& kv : options) setRefineOption(ro, kv);
+        r.emplace(ro);
+        return r;
+    }
+};
+}  // namespace pndt::app
