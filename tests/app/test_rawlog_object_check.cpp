@@ -264,6 +264,51 @@ TEST(RawlogObjectCheck, ValidRawlogsReadExactlyAsMrptReadsThem)
     }
 }
 
+// Older versions, made from a file of our writer by removing the fields a version added:
+// the robot pose at version 0 (no sensor pose), the scan at version 9 (no range layers), its
+// two cameras at version 5 (no distortion model). They read as MRPT reads them.
+TEST(RawlogObjectCheck, OlderVersionsReadAsMrptReadsThem)
+{
+    Dir dir("pndt_rawlog_check_old");
+    writeFrames(dir.path / "ours.rawlog");
+    std::string plain = readDecompressed(dir.path / "ours.rawlog");
+    const std::string kScan = "mrpt::obs::CObservation3DRangeScan", kImage = "mrpt::obs::CObservationImage",
+                      kCamera = "mrpt::img::TCamera";
+    // Object #1, the robot pose, ends with its sensor pose (CPose3D v3: header, 12 doubles,
+    // end flag: 119 bytes) and its own end flag; the scan's header follows.
+    const size_t scan = plain.find(kScan) - 1;
+    ASSERT_EQ(uint8_t(plain[scan - 120]), 0x80u | 20u);
+    ASSERT_EQ(plain.substr(scan - 119, 20), "mrpt::poses::CPose3D");
+    const size_t pose_version = plain.find("mrpt::obs::CObservationRobotPose") + 32;
+    ASSERT_EQ(plain[pose_version], '\x01');
+    // The scan ends with its number of range layers (0) and its end flag.
+    const size_t image = plain.find(kImage, scan) - 1;
+    ASSERT_EQ(plain.substr(image - 2, 2), std::string("\x00\x88", 2));
+    plain.erase(image - 2, 1);
+    // Its two cameras: version byte, 13 doubles, nrows, ncols, name, distortion model, end flag.
+    for (size_t at = plain.find(kCamera, scan); at < image; at = plain.find(kCamera, at + 1))
+    {
+        const size_t version = at + kCamera.size();
+        ASSERT_EQ(plain[version], '\x06');
+        plain[version] = '\x05';
+        uint32_t name = 0;
+        std::memcpy(&name, &plain[version + 1 + 13 * 8 + 8], 4);
+        const size_t model = version + 1 + 13 * 8 + 8 + 4 + name;
+        ASSERT_EQ(uint8_t(plain[model + 1]), 0x88u);
+        plain.erase(model, 1);
+    }
+    plain[scan + 1 + kScan.size()] = '\x09';
+    plain.erase(scan - 120, 119);
+    plain[pose_version] = '\x00';
+    writeCompressed(dir.path / "old.rawlog", plain);
+
+    std::string reason;
+    const auto ours = readByStream(dir.path / "old.rawlog", reason), mrpts = readByMrpt(dir.path / "old.rawlog");
+    EXPECT_EQ(reason, "");
+    EXPECT_EQ(ours.size(), 12u);
+    EXPECT_TRUE(ours == mrpts) << ours.size() << " vs " << mrpts.size() << " objects";
+}
+
 TEST(RawlogObjectCheck, ADepthImageOf2To31RowsIsRefusedNamingTheFieldBeforeAllocating)
 {
     Dir dir("pndt_rawlog_check_rows");
