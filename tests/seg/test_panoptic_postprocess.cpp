@@ -396,6 +396,14 @@ TEST(PanopticPostprocessFast, NonFiniteLogitsAreFoundInEveryChannel)
 
 namespace
 {
+PostprocessOptions withKernel(int nms_kernel, float offset_scale = 1.f)
+{
+    PostprocessOptions o;
+    o.nms_kernel = nms_kernel;
+    o.offset_scale = offset_scale;
+    return o;
+}
+
 /// Centres by the definition: above the threshold and ≥ every value of the window (image only).
 std::vector<InstanceCenter> referenceCentres(const Tensors& t, const PostprocessOptions& o)
 {
@@ -442,8 +450,7 @@ TEST(PanopticPostprocessFast, CentresEqualTheDefinitionOnSmoothAndOnNoisyHeatmap
             }
             t.heat(30, 10) = t.heat(30, 12) = 1.f;  // a plateau: both are centres
         }
-        PostprocessOptions o;
-        o.nms_kernel = 7;
+        const PostprocessOptions o = withKernel(7);
         PanopticPostprocessor p(nyu(), {0, kChair}, o);
         PanopticFrame out;
         p.run(t.view(), out);
@@ -473,9 +480,7 @@ TEST(PanopticPostprocessFast, GroupingEqualsTheNearestCentreForEveryVote)
     for (auto& v : t.offset) v = off(rng);
     t.dy(5, 5) = std::nanf("");
     t.dx(6, 6) = 500.f;
-    PostprocessOptions o;
-    o.nms_kernel = 3;
-    o.offset_scale = 0.75f;
+    const PostprocessOptions o = withKernel(3, 0.75f);
     PanopticPostprocessor p(nyu(), {0, kChair}, o);
     PanopticFrame out;
     p.run(t.view(), out);

@@ -43,6 +43,7 @@ constexpr size_t kBlock = 2048;
 constexpr size_t kSubBlock = 128;
 // The grouping's centre grid: cells of 16 × 16 vote pixels over the image.
 constexpr int kGridCell = 16;
+constexpr uint32_t kSeveral = 0xffffffffu;  // a grid cell with more than one candidate centre
 
 /// CPU time of the calling thread (ms): what one core spends, whatever else the machine runs.
 double threadMs()
@@ -116,46 +117,42 @@ PNDT_SIMD_CLONES void blockSoftmaxScore(const float* semantic, size_t N, int C, 
     for (size_t i = 0; i < n; ++i) score[i] = 1.f / sum[i];
 }
 
-/// One block's max pass: per pixel the max logit (v > mx ? v : mx, as blockArgmax). False if
-/// the block holds a non-finite logit (the caller then takes the exact path).
-bool blockMaxScalar(const float* semantic, size_t N, int C, size_t b0, size_t n, float* __restrict mx)
+/// One block's max pass: per pixel the max logit and its first channel (as blockArgmax). False
+/// if the block holds a non-finite logit (the caller then takes the exact path).
+bool blockMaxScalar(const float* semantic, size_t N, int C, size_t b0, size_t n, float* __restrict mx,
+                    int32_t* __restrict am)
 {
+    blockArgmax(semantic, N, C, b0, n, mx, am);
     float acc = 0.f;
     for (int c = 0; c < C; ++c)
     {
         const float* __restrict p = semantic + size_t(c) * N + b0;
-        for (size_t i = 0; i < n; ++i)
-        {
-            const float v = p[i];
-            mx[i] = c == 0 || v > mx[i] ? v : mx[i];
-            acc += v;
-        }
+        for (size_t i = 0; i < n; ++i) acc += p[i];
     }
     return std::isfinite(acc);
 }
 
-/// One block's softmax pass. Per channel the largest l − mx over the block: a channel below
-/// −skip everywhere is left out of Σ exp(l − mx) (`sum`); one that reaches 0 somewhere is some
-/// pixel's max, and the first such channel of a pixel is its argmax (`am`).
-void blockSoftmaxScalar(const float* semantic, size_t N, int C, size_t b0, size_t n, const float* __restrict mx,
-                        float skip, bool logits, float* __restrict sum, int32_t* __restrict am)
+/// One sub-block's softmax pass: Σ exp(l − mx) into `sum` over the channels whose largest l − mx
+/// over the sub-block is ≥ −skip (the others' terms are all below e^−skip; skip = ∞: all).
+/// Returns how many channels it left out.
+int blockSoftmaxScalar(const float* semantic, size_t N, int C, size_t b0, size_t n, const float* __restrict mx,
+                       float skip, float* __restrict sum)
 {
-    for (size_t i = 0; i < n; ++i)
-    {
-        sum[i] = 0.f;
-        am[i] = -1;
-    }
+    for (size_t i = 0; i < n; ++i) sum[i] = 0.f;
+    int skipped = 0;
     for (int c = 0; c < C; ++c)
     {
         const float* __restrict p = semantic + size_t(c) * N + b0;
         float dmax = -std::numeric_limits<float>::infinity();
         for (size_t i = 0; i < n; ++i) dmax = std::max(dmax, p[i] - mx[i]);
-        if (dmax >= 0.f)
-            for (size_t i = 0; i < n; ++i)
-                if (am[i] < 0 && p[i] == mx[i]) am[i] = c;
-        if (logits && !(dmax < -skip))
-            for (size_t i = 0; i < n; ++i) sum[i] += fastExpNonPositive(p[i] - mx[i]);
+        if (dmax < -skip)
+        {
+            ++skipped;
+            continue;
+        }
+        for (size_t i = 0; i < n; ++i) sum[i] += fastExpNonPositive(p[i] - mx[i]);
     }
+    return skipped;
 }
 
 #if PNDT_HAVE_AVX2_KERNEL
@@ -186,7 +183,8 @@ PNDT_AVX2 inline __m256 exp8(__m256 x)
 }
 
 /// blockMaxScalar for n a multiple of 8.
-PNDT_AVX2 bool blockMaxAvx2(const float* semantic, size_t N, int C, size_t b0, size_t n, float* __restrict mx)
+PNDT_AVX2 bool blockMaxAvx2(const float* semantic, size_t N, int C, size_t b0, size_t n, float* __restrict mx,
+                            int32_t* __restrict am)
 {
     __m256 acc = _mm256_setzero_ps();
     {
@@ -195,16 +193,21 @@ PNDT_AVX2 bool blockMaxAvx2(const float* semantic, size_t N, int C, size_t b0, s
         {
             const __m256 v = _mm256_loadu_ps(p + i);
             _mm256_storeu_ps(mx + i, v);
+            _mm256_storeu_si256(reinterpret_cast<__m256i*>(am + i), _mm256_setzero_si256());
             acc = _mm256_add_ps(acc, v);
         }
     }
     for (int c = 1; c < C; ++c)
     {
         const float* p = semantic + size_t(c) * N + b0;
+        const __m256 id = _mm256_castsi256_ps(_mm256_set1_epi32(c));
         for (size_t i = 0; i < n; i += 8)
         {
-            const __m256 v = _mm256_loadu_ps(p + i);
-            _mm256_storeu_ps(mx + i, _mm256_max_ps(v, _mm256_loadu_ps(mx + i)));  // v > mx ? v : mx
+            const __m256 v = _mm256_loadu_ps(p + i), m = _mm256_loadu_ps(mx + i);
+            const __m256 take = _mm256_cmp_ps(v, m, _CMP_GT_OQ);
+            float* a = reinterpret_cast<float*>(am + i);
+            _mm256_storeu_ps(a, _mm256_blendv_ps(_mm256_loadu_ps(a), id, take));
+            _mm256_storeu_ps(mx + i, _mm256_max_ps(v, m));  // v > mx ? v : mx
             acc = _mm256_add_ps(acc, v);
         }
     }
@@ -214,44 +217,33 @@ PNDT_AVX2 bool blockMaxAvx2(const float* semantic, size_t N, int C, size_t b0, s
 }
 
 /// blockSoftmaxScalar for n a multiple of 8.
-PNDT_AVX2 void blockSoftmaxAvx2(const float* semantic, size_t N, int C, size_t b0, size_t n,
-                                const float* __restrict mx, float skip, bool logits, float* __restrict sum,
-                                int32_t* __restrict am)
+PNDT_AVX2 int blockSoftmaxAvx2(const float* semantic, size_t N, int C, size_t b0, size_t n,
+                               const float* __restrict mx, float skip, float* __restrict sum)
 {
-    for (size_t i = 0; i < n; i += 8)
-    {
-        _mm256_storeu_ps(sum + i, _mm256_setzero_ps());
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(am + i), _mm256_set1_epi32(-1));
-    }
+    for (size_t i = 0; i < n; i += 8) _mm256_storeu_ps(sum + i, _mm256_setzero_ps());
+    int skipped = 0;
     for (int c = 0; c < C; ++c)
     {
         const float* p = semantic + size_t(c) * N + b0;
-        // The channel's largest l − mx over the block: 0 if it is some pixel's max.
-        __m256 dm = _mm256_sub_ps(_mm256_loadu_ps(p), _mm256_loadu_ps(mx));
-        for (size_t i = 8; i < n; i += 8)
-            dm = _mm256_max_ps(dm, _mm256_sub_ps(_mm256_loadu_ps(p + i), _mm256_loadu_ps(mx + i)));
-        const float dmax = hmax(dm);
-        if (dmax >= 0.f)
+        if (skip < std::numeric_limits<float>::infinity())
         {
-            const __m256i id = _mm256_set1_epi32(c);
-            for (size_t i = 0; i < n; i += 8)
+            // The channel's largest l − mx over the sub-block.
+            __m256 dm = _mm256_sub_ps(_mm256_loadu_ps(p), _mm256_loadu_ps(mx));
+            for (size_t i = 8; i < n; i += 8)
+                dm = _mm256_max_ps(dm, _mm256_sub_ps(_mm256_loadu_ps(p + i), _mm256_loadu_ps(mx + i)));
+            if (hmax(dm) < -skip)
             {
-                __m256i* a = reinterpret_cast<__m256i*>(am + i);
-                const __m256i cur = _mm256_loadu_si256(a);
-                const __m256 eq = _mm256_cmp_ps(_mm256_loadu_ps(p + i), _mm256_loadu_ps(mx + i), _CMP_EQ_OQ);
-                const __m256i take = _mm256_and_si256(_mm256_castps_si256(eq), cur);  // cur < 0: sign bit
-                _mm256_storeu_si256(
-                    a, _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(cur), _mm256_castsi256_ps(id),
-                                                            _mm256_castsi256_ps(take))));
+                ++skipped;
+                continue;
             }
         }
-        if (logits && !(dmax < -skip))
-            for (size_t i = 0; i < n; i += 8)
-            {
-                const __m256 d = _mm256_sub_ps(_mm256_loadu_ps(p + i), _mm256_loadu_ps(mx + i));
-                _mm256_storeu_ps(sum + i, _mm256_add_ps(_mm256_loadu_ps(sum + i), exp8(d)));
-            }
+        for (size_t i = 0; i < n; i += 8)
+        {
+            const __m256 d = _mm256_sub_ps(_mm256_loadu_ps(p + i), _mm256_loadu_ps(mx + i));
+            _mm256_storeu_ps(sum + i, _mm256_add_ps(_mm256_loadu_ps(sum + i), exp8(d)));
+        }
     }
+    return skipped;
 }
 
 bool cpuHasAvx2()
@@ -281,7 +273,7 @@ void PanopticPostprocessor::run(const PanopticTensors& t, PanopticFrame& out)
     {
         findCenters(t);
         buildCentreGrid(W, H);
-        votes_.assign(centers_.size() * classes_.size(), 0);
+        votes_.assign((centers_.size() + 1) * classes_.size(), 0);  // row 0: pixels of no instance
         timing_.centres_ms = threadMs() - t0;
         t0 = threadMs();
     }
@@ -306,6 +298,8 @@ void PanopticPostprocessor::run(const PanopticTensors& t, PanopticFrame& out)
     const float skip = skipMargin(options_.score_tolerance, C);
     const size_t blocks = (N + kBlock - 1) / kBlock;
     block_has_instance_.assign(blocks, 0);
+    const float inf = std::numeric_limits<float>::infinity();
+    int skipped_last = 1;
     float* mx = scratch(max_logit_, kBlock, t.semantic, 1024);
     float* sum = scratch(exp_sum_, kBlock, t.semantic, 2048);
     int32_t* am = scratch(argmax_, kBlock, t.semantic, 3072);
@@ -317,26 +311,28 @@ void PanopticPostprocessor::run(const PanopticTensors& t, PanopticFrame& out)
 #if PNDT_HAVE_AVX2_KERNEL
         const bool avx2 = n % 8 == 0 && cpuHasAvx2();
         if (avx2)
-            finite = blockMaxAvx2(t.semantic, N, C, b0, n, mx);
+            finite = blockMaxAvx2(t.semantic, N, C, b0, n, mx, am);
         else
 #endif
-            finite = blockMaxScalar(t.semantic, N, C, b0, n, mx);
-        if (finite)
+            finite = blockMaxScalar(t.semantic, N, C, b0, n, mx, am);
+        if (finite && logits)
         {
             for (size_t s0 = 0; s0 < n; s0 += kSubBlock)
             {
                 const size_t m = std::min(kSubBlock, n - s0);
+                // Where the last sub-block could leave no class out (noise), only every 4th one
+                // tests the classes: the test costs a pass over the sub-block.
+                const float sub_skip = skipped_last > 0 || (s0 / kSubBlock) % 4 == 0 ? skip : inf;
 #if PNDT_HAVE_AVX2_KERNEL
                 if (avx2)
-                    blockSoftmaxAvx2(t.semantic, N, C, b0 + s0, m, mx + s0, skip, logits, sum + s0, am + s0);
+                    skipped_last = blockSoftmaxAvx2(t.semantic, N, C, b0 + s0, m, mx + s0, sub_skip, sum + s0);
                 else
 #endif
-                    blockSoftmaxScalar(t.semantic, N, C, b0 + s0, m, mx + s0, skip, logits, sum + s0, am + s0);
+                    skipped_last = blockSoftmaxScalar(t.semantic, N, C, b0 + s0, m, mx + s0, sub_skip, sum + s0);
             }
-            if (logits)
-                for (size_t i = 0; i < n; ++i) score[i] = 1.f / sum[i];
+            for (size_t i = 0; i < n; ++i) score[i] = 1.f / sum[i];
         }
-        else
+        else if (!finite)
         {
             // A NaN or infinite logit: every channel, as the definition reads (and its errors).
             blockArgmax(t.semantic, N, C, b0, n, mx, am);
@@ -361,7 +357,7 @@ void PanopticPostprocessor::run(const PanopticTensors& t, PanopticFrame& out)
     majority_.assign(K, 0);
     for (size_t k = 0; k < K; ++k)
     {
-        const uint32_t* v = &votes_[k * CL];
+        const uint32_t* v = &votes_[(k + 1) * CL];
         uint16_t best = 0;
         for (size_t c = 1; c < CL; ++c)
             if (v[c] > v[best]) best = uint16_t(c);
@@ -470,6 +466,7 @@ void PanopticPostprocessor::buildCentreGrid(int width, int height)
     grid_w_ = (width + kGridCell - 1) / kGridCell;
     grid_h_ = (height + kGridCell - 1) / kGridCell;
     grid_start_.assign(size_t(grid_w_) * grid_h_ + 1, 0);
+    grid_single_.assign(size_t(grid_w_) * grid_h_, kSeveral);
     grid_ids_.clear();
     const size_t K = centers_.size();
     std::vector<double>& mind = scratch_d_;
@@ -490,10 +487,14 @@ void PanopticPostprocessor::buildCentreGrid(int width, int height)
                 best_far = std::min(best_far, fx * fx + fy * fy);
             }
             const double limit = best_far * (1 + 1e-4) + 1.0;
+            const size_t first = grid_ids_.size(), cell = size_t(gy) * grid_w_ + gx;
             for (size_t k = 0; k < K; ++k)
                 if (mind[k] <= limit) grid_ids_.push_back(int32_t(k));
-            grid_start_[size_t(gy) * grid_w_ + gx + 1] = int32_t(grid_ids_.size());
+            grid_start_[cell + 1] = int32_t(grid_ids_.size());
+            grid_single_[cell] = grid_ids_.size() == first + 1 ? uint32_t(grid_ids_[first]) + 1 : kSeveral;
         }
+    centre_score_.assign(K + 1, 0.f);  // [0]: no instance
+    for (size_t k = 0; k < K; ++k) centre_score_[k + 1] = centers_[k].score;
 }
 
 uint32_t PanopticPostprocessor::nearestCentre(float x, float y) const
@@ -541,31 +542,34 @@ void PanopticPostprocessor::groupBlock(const PanopticTensors& t, size_t b0, size
     uint32_t* inst = out.instance.data.data();
     float* pan = out.panoptic_score.data.data();
     const bool any_centre = !centers_.empty();
-    bool any = false;
-    // Each thing pixel votes for the point pixel + offset; it joins the centre nearest to it.
+    const float inv = 1.f / kGridCell, gw = float(grid_w_), gh = float(grid_h_);
+    uint32_t any = 0;
+    // Each thing pixel votes for the point pixel + offset; it joins the centre nearest to it:
+    // the grid cell's only candidate, else a search. Branch-free but for that search: thing and
+    // stuff pixels alternate unpredictably where the network hesitates.
     size_t x = b0 % W, y = b0 / W;  // walked, not divided per pixel
     for (size_t i = 0; i < n; ++i)
     {
         const size_t j = b0 + i;
-        uint32_t z = 0;
-        if (any_centre && channel_is_thing_[size_t(am[i])])
-            z = nearestCentre(float(x) + s * dx[j], float(y) + s * dy[j]);
+        const bool thing = any_centre && channel_is_thing_[size_t(am[i])];
+        const float vx = float(x) + s * dx[j], vy = float(y) + s * dy[j];
+        const float gx = (vx - grid_x0_) * inv, gy = (vy - grid_y0_) * inv;
+        const bool in = gx >= 0.f && gx < gw && gy >= 0.f && gy < gh;  // false for NaN
+        const size_t cell = in ? size_t(gy) * size_t(grid_w_) + size_t(gx) : 0;
+        uint32_t z = in ? grid_single_[cell] : kSeveral;
+        if (thing && z == kSeveral) z = nearestCentre(vx, vy);
+        z = thing ? z : 0u;
         inst[j] = z;
-        if (z)
-        {
-            pan[j] = score[j] * centers_[z - 1].score;
-            ++votes_[(z - 1) * CL + sem[j]];
-            any = true;
-        }
-        else
-            pan[j] = 0.f;
+        pan[j] = score[j] * centre_score_[z];
+        ++votes_[z * CL + sem[j]];
+        any |= z;
         if (++x == W)
         {
             x = 0;
             ++y;
         }
     }
-    block_has_instance_[b0 / kBlock] = any;
+    block_has_instance_[b0 / kBlock] = any != 0;
 }
 
 void resizeLabels(const PanopticFrame& in, int width, int height, PanopticFrame& out)

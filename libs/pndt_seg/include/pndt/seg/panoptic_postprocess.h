@@ -92,8 +92,10 @@ class PanopticPostprocessor
     float grid_x0_ = 0, grid_y0_ = 0;
     int grid_w_ = 0, grid_h_ = 0;
     std::vector<int32_t> grid_start_, grid_ids_;
+    std::vector<uint32_t> grid_single_;  ///< per cell: its only candidate + 1, or "several"
+    std::vector<float> centre_score_;    ///< S^Z per instance id (0: none)
     std::vector<double> scratch_d_;
-    std::vector<uint32_t> votes_;          ///< [centre][class] thing-pixel counts (Eq. 1)
+    std::vector<uint32_t> votes_;          ///< [1 + centre][class] thing-pixel counts (Eq. 1)
     std::vector<uint16_t> majority_;       ///< per centre
     std::vector<uint8_t> block_has_instance_;
 };
