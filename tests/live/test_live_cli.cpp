@@ -264,6 +264,34 @@ TEST_F(LiveCli, MapsRawlogOptionsAsPndtMap)
     EXPECT_TRUE(fs::exists(dir / "off" / "map_0000.pndt.gz"));
 }
 
+TEST_F(LiveCli, LabelledRunsMapsRawlogWithInputsEqualsTheReplays)
+{
+    // With a segmentation (tests/seg's tiny panoptic network): the recording holds the labels
+    // each mapped frame got (frames the network was too slow for are recorded without), so the
+    // replay — maps and maps.rawlog with the interleaved poses, scans and label images — is the
+    // same, dropped frames or not.
+    camera("");
+    std::ofstream(dir / "model.json") << R"({"format": "pndt-segmentation-model/1", "name": "tiny", "onnx": ")"
+                                      << PNDT_SEG_TEST_MODELS << R"(/panoptic_tiny.onnx", "kind": "panoptic",
+      "input_size": [16, 12],
+      "inputs": [{"name": "rgb", "kind": "rgb", "scale": 0.003921568627451},
+                 {"name": "depth", "kind": "depth", "mean": [2], "std": [10]}],
+      "outputs": {"semantic": "semantic", "center": "center", "offset": "offset"},
+      "classes": ["void", "wall", "chair", "table"],
+      "postprocess": {"center_threshold": 0.1, "nms_kernel": 3, "top_k": 8, "offset_order": "yx", "offset_scale": 2}})";
+    ASSERT_EQ(live("--model model.json --max-frames 45 --period 0.5 --record rec.rawlog --rawlog-inputs"), 0)
+        << out << err;
+    const uint64_t mapped = number(out, R"(frames mapped\s+: (\d+))");
+    const uint64_t labelled = number(out, R"(segmentation\s+: (\d+) frames labelled)");
+    std::printf("[measured] labelled live run: %llu of %llu mapped frames labelled\n", (unsigned long long)labelled,
+                (unsigned long long)mapped);
+    EXPECT_EQ(mapped, 45u) << out;
+    EXPECT_GT(labelled, 0u) << out;
+    // label images are in maps.rawlog too: 2 per labelled frame, beside a pose and a scan per frame
+    EXPECT_GE(number(out, R"(maps.rawlog\s+: \d+ maps \+ (\d+) input)"), 2 * mapped + 2 * labelled);
+    expectReplayEqualsLive(mapped, "--period 0.5 --rawlog-inputs", 2);
+}
+
 TEST_F(LiveCli, MrptBackendMapsTheVirtualCameraAndEqualsTheReplayOfItsRecording)
 {
     camera("");
