@@ -4,7 +4,8 @@
 // given). OpenNI2's own API is used here because MRPT 2.5.8's COpenNI2Sensor stamps frames
 // with the host clock at grab (the device stamp is lost, so a localiser's poses cannot be
 // matched to frames by device time), blocks forever in getNextObservation() when the device
-// goes away, and opens an IR stream real devices cannot run together with colour.
+// goes away, and opens an IR stream real devices cannot run together with colour. The
+// COpenNI2Sensor backend, with those gaps handled, is MrptCapture (mrpt_capture.h).
 #pragma once
 
 #include <mrpt/obs/CObservation3DRangeScan.h>
