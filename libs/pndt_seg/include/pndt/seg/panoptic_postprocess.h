@@ -21,16 +21,17 @@ struct PostprocessOptions
     bool semantic_is_logit = true;   ///< "semantic_activation": "softmax" (we apply it) | "none"
     bool offset_yx = true;           ///< "offset_order": "yx" (Panoptic-DeepLab) | "xy"
     float offset_scale = 1.0f;       ///< offset value × scale = output pixels, pixel → its centre
-    /// Bound on the relative error of S^L from the classes left out of its softmax sum: per block
-    /// of pixels, a class whose logit is below every pixel's winner by more than
-    /// T = ln((classes − 1) / score_tolerance) is skipped (its e^(l − l_max) < e^−T). 0 = never.
+    /// Bound on the relative error of S^L from the classes left out of its softmax sum: per
+    /// 128-pixel block, a class whose logit is below every pixel's winner by more than
+    /// T = ln((classes − 1) / score_tolerance) is skipped (its e^(l − l_max) < e^−T), so S^L is
+    /// at most that fraction too high (plus < 3e-6 from the polynomial exp). 0 = never skip.
     float score_tolerance = 1e-4f;
 };
 
-/// Where the last run() spent its time (milliseconds, one thread).
+/// Where the last run() spent its time (CPU time of the calling thread, milliseconds).
 struct PostprocessTiming
 {
-    double centres_ms = 0;   ///< centre heatmap: NMS (max filter), threshold, top-k
+    double centres_ms = 0;   ///< centre heatmap: NMS, threshold, top-k; the grouping's centre grid
     double pixels_ms = 0;    ///< one pass over the pixels: max/argmax, S^L, offset grouping of thing pixels
     double merge_ms = 0;     ///< Eq. 1: majority class per instance, written back to its pixels
 };
