@@ -10,6 +10,7 @@
 #include <pndt/app/observation_stream.h>
 #include <pndt/app/read_ahead_stream.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -122,6 +123,23 @@ TEST(ObservationStream, ACorruptJpegColourImageStopsWithAMessageNotTheProcess)
     EXPECT_NE(reason.find((dir / "damaged.rawlog").string()), std::string::npos) << reason;
     EXPECT_NE(reason.find("at object #4"), std::string::npos) << reason;
     EXPECT_NE(reason.find("JPEG bytes are corrupt"), std::string::npos) << reason;
+
+    // A second SOF marker where the EOI should be: OpenCV decodes the image (the guard used to
+    // pass it), but MRPT's jpeg_finish_decompress reads on to the EOI and libjpeg exit()s with
+    // "Invalid JPEG file structure: two SOF markers" (found by fuzz_rawlog). The check makes
+    // MRPT's calls itself (header, scanlines, finish) with an error handler that returns.
+    uint32_t length = 0;
+    std::memcpy(&length, &plain[second - 4], 4);
+    ASSERT_EQ(plain.substr(second + length - 2, 2), "\xFF\xD9");
+    std::string two_sof = plain;
+    two_sof[second + length - 1] = '\xC0';
+    const std::string sof_reason = read(two_sof, stamps);
+    EXPECT_EQ(stamps, (std::vector<double>{100.0, 100.0, 101.0}));
+    EXPECT_NE(sof_reason.find("at object #4"), std::string::npos) << sof_reason;
+    EXPECT_NE(sof_reason.find("JPEG bytes are corrupt (libjpeg cannot decode them: Invalid JPEG file structure: "
+                              "two SOF markers)"),
+              std::string::npos)
+        << sof_reason;
 
     // Damage libjpeg recovers from with a warning (an APP0 length of 1: it
     // skips to the next marker) is no reason to stop: MRPT decodes the image.

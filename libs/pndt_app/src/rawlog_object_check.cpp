@@ -4,14 +4,17 @@
 #include "rawlog_object_check.h"
 
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
 #include <pndt/io/images.h>
 
 #include <algorithm>
+#include <csetjmp>
+#include <cstdio>  // before jpeglib.h, which needs FILE
 #include <cstring>
 #include <initializer_list>
 #include <stdexcept>
 #include <vector>
+
+#include <jpeglib.h>
 
 namespace pndt::app::detail
 {
@@ -27,6 +30,69 @@ std::string shortName(const std::string& cls)
 {
     if (cls.rfind("mrpt::", 0) == 0) return cls.substr(cls.rfind("::") + 2);
     return cls;
+}
+
+/// libjpeg's error handler that returns (MRPT's, the default one, calls exit()).
+struct JpegErrors
+{
+    jpeg_error_mgr mgr;
+    std::jmp_buf jump;
+    char message[JMSG_LENGTH_MAX];
+};
+void jpegError(j_common_ptr c)
+{
+    auto* e = reinterpret_cast<JpegErrors*>(c->err);
+    (*c->err->format_message)(c, e->message);
+    std::longjmp(e->jump, 1);
+}
+void jpegWarning(j_common_ptr, int) {}  // MRPT's decoder prints warnings and goes on
+
+struct JpegCheck
+{
+    std::string problem;  ///< empty: libjpeg decodes the bytes
+    bool too_large = false;
+};
+/// Decodes JPEG bytes with the libjpeg MRPT uses and the calls its CImage::loadFromStreamAsJPEG
+/// makes (header, start, every scanline, finish: a structure error after the image data ends
+/// there too), at 1/8 scale, after checking the size the header claims against the limits.
+JpegCheck checkJpeg(const uint8_t* bytes, size_t n)
+{
+    jpeg_decompress_struct cinfo{};
+    JpegErrors errors{};
+    cinfo.err = jpeg_std_error(&errors.mgr);
+    errors.mgr.error_exit = jpegError;
+    errors.mgr.emit_message = jpegWarning;
+    JpegCheck* volatile result = new JpegCheck;  // survives the longjmp
+    if (setjmp(errors.jump))
+    {
+        jpeg_destroy_decompress(&cinfo);
+        result->problem = errors.message;
+        JpegCheck out = std::move(*result);
+        delete result;
+        return out;
+    }
+    jpeg_create_decompress(&cinfo);
+    jpeg_mem_src(&cinfo, const_cast<unsigned char*>(bytes), static_cast<unsigned long>(n));
+    jpeg_read_header(&cinfo, TRUE);
+    if (std::string problem = io::imageSizeProblem(cinfo.image_width, cinfo.image_height); !problem.empty())
+    {
+        result->problem = std::move(problem);
+        result->too_large = true;
+    }
+    else
+    {
+        cinfo.scale_num = 1;
+        cinfo.scale_denom = 8;
+        jpeg_start_decompress(&cinfo);
+        JSAMPARRAY row = (*cinfo.mem->alloc_sarray)(reinterpret_cast<j_common_ptr>(&cinfo), JPOOL_IMAGE,
+                                                     cinfo.output_width * cinfo.output_components, 1);
+        while (cinfo.output_scanline < cinfo.output_height) jpeg_read_scanlines(&cinfo, row, 1);
+        jpeg_finish_decompress(&cinfo);
+    }
+    jpeg_destroy_decompress(&cinfo);
+    JpegCheck out = std::move(*result);
+    delete result;
+    return out;
 }
 
 class Walker
@@ -257,29 +323,12 @@ class Walker
         const auto n = get<uint32_t>(what);
         const size_t at = buf_.size();
         take(n, what);
-        const auto* bytes = reinterpret_cast<const uint8_t*>(buf_.data() + at);
+        const JpegCheck check = checkJpeg(reinterpret_cast<const uint8_t*>(buf_.data() + at), n);
         // MRPT decodes the image at full size: a header claiming a huge one is refused first.
-        const auto wh = io::imageHeaderSize(bytes, n);
-        if (const std::string problem = io::imageSizeProblem(wh[0], wh[1]); !problem.empty())
-            fail(fmt::format("a colour image's JPEG header is implausible: {}", problem));
-        // MRPT's libjpeg error handler calls exit(): the bytes are first decoded at 1/8 scale by
-        // OpenCV, through the same libjpeg with an error handler that returns.
-        cv::Mat reduced;
-        if (n >= 2 && bytes[0] == 0xFF && bytes[1] == 0xD8)
-        {
-            try
-            {
-                reduced = cv::imdecode(cv::Mat(1, int(n), CV_8UC1, const_cast<uint8_t*>(bytes)),
-                                       cv::IMREAD_REDUCED_COLOR_8);
-            }
-            catch (const cv::Exception&)
-            {
-            }
-        }
-        if (reduced.empty())
-            fail(fmt::format("a colour image's {} JPEG bytes are corrupt (libjpeg cannot decode them)", n));
-        if (wh[0] < 0)  // no size marker found near the start: the decoded size tells (within 8 pixels)
-            checkImage("a colour image's JPEG", int64_t(reduced.cols) * 8 - 7, int64_t(reduced.rows) * 8 - 7);
+        if (check.too_large) fail(fmt::format("a colour image's JPEG header is implausible: {}", check.problem));
+        if (!check.problem.empty())
+            fail(fmt::format("a colour image's {} JPEG bytes are corrupt (libjpeg cannot decode them: {})", n,
+                             check.problem));
     }
     void image(unsigned v)
     {
