@@ -545,24 +545,25 @@ void PanopticPostprocessor::groupBlock(const PanopticTensors& t, size_t b0, size
     const float inv = 1.f / kGridCell, gw = float(grid_w_), gh = float(grid_h_);
     uint32_t any = 0;
     // Each thing pixel votes for the point pixel + offset; it joins the centre nearest to it:
-    // the grid cell's only candidate, else a search. Branch-free but for that search: thing and
-    // stuff pixels alternate unpredictably where the network hesitates.
+    // the grid cell's only candidate, else a search. (Stuff pixels branch away: on a network's
+    // output they come in long runs, and they need neither their offsets nor a vote.)
     size_t x = b0 % W, y = b0 / W;  // walked, not divided per pixel
     for (size_t i = 0; i < n; ++i)
     {
         const size_t j = b0 + i;
-        const bool thing = any_centre && channel_is_thing_[size_t(am[i])];
-        const float vx = float(x) + s * dx[j], vy = float(y) + s * dy[j];
-        const float gx = (vx - grid_x0_) * inv, gy = (vy - grid_y0_) * inv;
-        const bool in = gx >= 0.f && gx < gw && gy >= 0.f && gy < gh;  // false for NaN
-        const size_t cell = in ? size_t(gy) * size_t(grid_w_) + size_t(gx) : 0;
-        uint32_t z = in ? grid_single_[cell] : kSeveral;
-        if (thing && z == kSeveral) z = nearestCentre(vx, vy);
-        z = thing ? z : 0u;
+        uint32_t z = 0;
+        if (any_centre && channel_is_thing_[size_t(am[i])])
+        {
+            const float vx = float(x) + s * dx[j], vy = float(y) + s * dy[j];
+            const float gx = (vx - grid_x0_) * inv, gy = (vy - grid_y0_) * inv;
+            const bool in = gx >= 0.f && gx < gw && gy >= 0.f && gy < gh;  // false for NaN
+            z = in ? grid_single_[size_t(gy) * size_t(grid_w_) + size_t(gx)] : kSeveral;
+            if (z == kSeveral) z = nearestCentre(vx, vy);
+            ++votes_[z * CL + sem[j]];
+            any |= z;
+        }
         inst[j] = z;
         pan[j] = score[j] * centre_score_[z];
-        ++votes_[z * CL + sem[j]];
-        any |= z;
         if (++x == W)
         {
             x = 0;
