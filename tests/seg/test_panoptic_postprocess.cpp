@@ -318,7 +318,7 @@ double exactScore(Tensors& t, int y, int x)
 
 TEST(PanopticPostprocessFast, AClassCloseToTheWinnerAtOnePixelIsNotSkipped)
 {
-    // 256 x 1 (two 128-pixel sub-blocks, 8-pixel vectors), channels [void, wall, chair]. Chair sits
+    // 256 x 1 (four 64-pixel sub-blocks, 8-pixel vectors), channels [void, wall, chair]. Chair sits
     // 40 below everywhere (skipped), wall 30 below except at pixel 200, where it is only 5 below:
     // its e^-5 = 0.0067 must be in that pixel's sum. Pixel 7: chair wins by 1 over void.
     for (const int width : {256, 255})  // 255: the last block is not a whole number of vectors

@@ -40,7 +40,7 @@ namespace
 // class planes lie a multiple of 4 kB apart, so one column of a block falls into one L1 set).
 constexpr size_t kBlock = 2048;
 // The softmax pass decides per sub-block which channels it can leave out.
-constexpr size_t kSubBlock = 128;
+constexpr size_t kSubBlock = 64;
 // The grouping's centre grid: cells of 16 × 16 vote pixels over the image.
 constexpr int kGridCell = 16;
 constexpr uint32_t kSeveral = 0xffffffffu;  // a grid cell with more than one candidate centre

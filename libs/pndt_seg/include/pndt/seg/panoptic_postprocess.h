@@ -22,7 +22,7 @@ struct PostprocessOptions
     bool offset_yx = true;           ///< "offset_order": "yx" (Panoptic-DeepLab) | "xy"
     float offset_scale = 1.0f;       ///< offset value × scale = output pixels, pixel → its centre
     /// Bound on the relative error of S^L from the classes left out of its softmax sum: per
-    /// 128-pixel block, a class whose logit is below every pixel's winner by more than
+    /// 64-pixel block, a class whose logit is below every pixel's winner by more than
     /// T = ln((classes − 1) / score_tolerance) is skipped (its e^(l − l_max) < e^−T), so S^L is
     /// at most that fraction too high (plus < 3e-6 from the polynomial exp). 0 = never skip.
     float score_tolerance = 1e-4f;
