@@ -88,7 +88,8 @@ void writeFrames(const fs::path& path)
 
 /// Reads `path` with ObservationStream in a child process whose address space may grow by
 /// `extra_mb` only (not under ASan / TSan); returns the stop reason, or how the child died.
-std::string readInChildUnderLimit(const fs::path& path, size_t extra_mb = 256)
+std::string readInChildUnderLimit(const fs::path& path, size_t extra_mb = 256,
+                                  pndt::app::UncheckedObjects unchecked = pndt::app::UncheckedObjects::Refused)
 {
     int fds[2];
     if (::pipe(fds) != 0) return "pipe failed";
@@ -107,7 +108,7 @@ std::string readInChildUnderLimit(const fs::path& path, size_t extra_mb = 256)
         std::string reason;
         try
         {
-            pndt::app::ObservationStream in(path.string());
+            pndt::app::ObservationStream in(path.string(), unchecked);
             size_t n = 0;
             while (in.next()) ++n;
             reason = in.truncated() ? in.stopReason() : "read " + std::to_string(n) + " observations";
@@ -166,12 +167,13 @@ std::vector<std::string> readByMrpt(const fs::path& path)
     }
     return serialised(objects);
 }
-std::vector<std::string> readByStream(const fs::path& path, std::string& reason)
+std::vector<std::string> readByStream(const fs::path& path, std::string& reason, size_t* unchecked = nullptr)
 {
     pndt::app::ObservationStream in(path.string());
     std::vector<mrpt::serialization::CSerializable::Ptr> objects;
     while (auto o = in.next()) objects.push_back(o);
     reason = in.stopReason();
+    if (unchecked) *unchecked = in.uncheckedObjectsRead();
     return serialised(objects);
 }
 }  // namespace
@@ -382,7 +384,7 @@ TEST(RawlogObjectCheck, AStringLengthOf4GiBIsRefusedNamingTheField)
         << nested;
 }
 
-TEST(RawlogObjectCheck, ClassesAndVersionsItDoesNotCheckAreRefusedByName)
+TEST(RawlogObjectCheck, StrictlyClassesAndVersionsItDoesNotCheckAreRefusedByName)
 {
     Dir dir("pndt_rawlog_check_class");
     {
@@ -394,13 +396,13 @@ TEST(RawlogObjectCheck, ClassesAndVersionsItDoesNotCheckAreRefusedByName)
         laser.resizeScan(10);
         ar << laser;
     }
-    const std::string reason = readInChildUnderLimit(dir.path / "laser.rawlog");
+    const std::string reason = readInChildUnderLimit(dir.path / "laser.rawlog");  // strict
     EXPECT_NE(reason.find("at object #2"), std::string::npos) << reason;
     EXPECT_NE(reason.find("a 'mrpt::obs::CObservation2DRangeScan' object, which this reader does not accept"), std::string::npos)
         << reason;
 
     // A range image stored in a file of its own (MRPT's load() would size it from that
-    // file, unchecked): refused, naming it.
+    // file, unchecked): refused strictly, naming it.
     {
         mrpt::io::CFileGZOutputStream out((dir.path / "external.rawlog").string());
         auto ar = mrpt::serialization::archiveFrom(out);
@@ -414,7 +416,7 @@ TEST(RawlogObjectCheck, ClassesAndVersionsItDoesNotCheckAreRefusedByName)
     const std::string external = readInChildUnderLimit(dir.path / "external.rawlog");
     EXPECT_NE(external.find("at object #1"), std::string::npos) << external;
     EXPECT_NE(external.find("CObservation3DRangeScan v10: externally stored range images, which this reader does "
-                            "not load"),
+                            "not accept: MRPT's load() would size them from that file unchecked"),
               std::string::npos)
         << external;
 
@@ -427,4 +429,94 @@ TEST(RawlogObjectCheck, ClassesAndVersionsItDoesNotCheckAreRefusedByName)
     EXPECT_NE(version.find("CObservation3DRangeScan v11: version 11 is not one MRPT 2.5.8 reads (0..10)"),
               std::string::npos)
         << version;
+}
+
+// A robot's rawlog carries other sensors (a 2D laser, odometry, an IMU) beside the camera,
+// often in sensory frames. By default MRPT's own reader reads the parts without a layout
+// here (their bytes collected as it goes) and the walk goes on after them: such a rawlog
+// reads exactly as MRPT reads it, the objects holding unchecked parts are counted, and the
+// checked classes stay checked around them (a camera scan after a laser in a sensory frame).
+TEST(RawlogObjectCheck, OtherSensorsObjectsAreReadByMrptByDefaultAndTheCameraStaysChecked)
+{
+    Dir dir("pndt_rawlog_check_other");
+    mrpt::obs::CObservation2DRangeScan laser;
+    laser.resizeScan(10);
+    for (size_t i = 0; i < 10; ++i) laser.setScanRange(i, 1.0f + 0.1f * float(i));
+    laser.sensorLabel = "LASER";
+    mrpt::obs::CObservationRobotPose pose;
+    pose.pose.mean = mrpt::poses::CPose3D(1, 2, 3, 0.1, 0.2, 0.3);
+    {
+        mrpt::io::CFileGZOutputStream out((dir.path / "robot.rawlog").string());
+        auto ar = mrpt::serialization::archiveFrom(out);
+        ar << pose << laser;          // observations-only format
+        mrpt::obs::CSensoryFrame sf;  // a sensory frame: laser, camera scan, pose
+        sf.insert(mrpt::obs::CObservation2DRangeScan::Create(laser));
+        auto scan = mrpt::obs::CObservation3DRangeScan::Create();
+        scan->hasRangeImage = true;
+        scan->rangeImage_setSize(8, 10);
+        scan->rangeImage.fill(900);
+        sf.insert(scan);
+        sf.insert(mrpt::obs::CObservationRobotPose::Create(pose));
+        ar << sf << pose;
+    }
+    std::string reason;
+    size_t unchecked = 0;
+    const auto ours = readByStream(dir.path / "robot.rawlog", reason, &unchecked);
+    EXPECT_EQ(reason, "");
+    EXPECT_EQ(unchecked, 2u);  // the laser, and the sensory frame holding one
+    const auto mrpts = readByMrpt(dir.path / "robot.rawlog");
+    ASSERT_EQ(ours.size(), 6u);
+    EXPECT_EQ(ours, mrpts);
+    EXPECT_EQ(readInChildUnderLimit(dir.path / "robot.rawlog", 256, pndt::app::UncheckedObjects::ReadByMrpt),
+              "read 6 observations");
+
+    // Strictly, the file stops at the laser (object #2).
+    const std::string strict = readInChildUnderLimit(dir.path / "robot.rawlog");
+    EXPECT_NE(strict.find("at object #2"), std::string::npos) << strict;
+    EXPECT_NE(strict.find("CObservation2DRangeScan' object, which this reader does not accept"), std::string::npos)
+        << strict;
+
+    // The camera scan after the laser in the sensory frame claims 2^31 rows: still refused
+    // by default, naming the field, before MRPT allocates it.
+    std::string plain = readDecompressed(dir.path / "robot.rawlog");
+    const size_t scan = plain.find("CObservation3DRangeScan");
+    ASSERT_NE(scan, std::string::npos);
+    const size_t rows = plain.find(std::string("\x08\0\0\0\x0a\0\0\0", 8), scan);
+    ASSERT_NE(rows, std::string::npos);
+    ASSERT_EQ(plain[rows - 5], '\x01');
+    putU32(plain, rows, 0x80000000u);
+    writeCompressed(dir.path / "rows.rawlog", plain);
+    const std::string rows_reason =
+        readInChildUnderLimit(dir.path / "rows.rawlog", 256, pndt::app::UncheckedObjects::ReadByMrpt);
+    EXPECT_NE(rows_reason.find("at object #3"), std::string::npos) << rows_reason;
+    EXPECT_NE(rows_reason.find("CSensoryFrame v2 > CObservation3DRangeScan v10: a depth image of 2147483648 x 10"),
+              std::string::npos)
+        << rows_reason;
+}
+
+// A scan whose range image lives in a file of its own: MRPT reads it by default (and its
+// load() fetches the image), strictly it is refused naming it.
+TEST(RawlogObjectCheck, ExternallyStoredRangeImagesAreReadByMrptByDefault)
+{
+    Dir dir("pndt_rawlog_check_external_default");
+    {
+        mrpt::io::CFileGZOutputStream out((dir.path / "external.rawlog").string());
+        auto ar = mrpt::serialization::archiveFrom(out);
+        mrpt::obs::CObservation3DRangeScan scan;
+        scan.hasRangeImage = true;
+        scan.rangeImage_setSize(8, 10);
+        scan.rangeImage.fill(900);
+        scan.rangeImage_convertToExternalStorage((dir.path / "range.bin").string(), "");
+        ar << scan;
+    }
+    pndt::app::ObservationStream in((dir.path / "external.rawlog").string());
+    auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(in.next());
+    ASSERT_TRUE(obs) << in.stopReason();
+    EXPECT_EQ(in.next(), nullptr);
+    EXPECT_FALSE(in.truncated()) << in.stopReason();
+    EXPECT_EQ(in.uncheckedObjectsRead(), 1u);
+    obs->load();
+    ASSERT_EQ(obs->rangeImage.rows(), 8);
+    ASSERT_EQ(obs->rangeImage.cols(), 10);
+    EXPECT_EQ(obs->rangeImage(3, 4), 900);
 }

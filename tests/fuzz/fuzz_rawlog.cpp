@@ -13,7 +13,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
     const std::string path = pndt_fuzz::writeInput(data, size, ".rawlog");
     try
     {
-        pndt::app::ObservationStream stream(path);
+        pndt::app::ObservationStream stream(path, pndt::app::UncheckedObjects::Refused);  // every byte checked
         pndt::ObservationPairer pairer;
         std::vector<pndt::PairedFrame> done;
         for (int i = 0; i < 64; ++i)

@@ -8,6 +8,7 @@
 #include "gz_file_input.h"
 #include "rawlog_object_check.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -49,7 +50,8 @@ class ObservationStream::GuardedInput : public mrpt::io::CStream
     uint64_t position_ = 0, object_start_ = 0;
 };
 
-ObservationStream::ObservationStream(const std::string& path) : path_(path)
+ObservationStream::ObservationStream(const std::string& path, UncheckedObjects unchecked)
+    : path_(path), unchecked_(unchecked)
 {
     if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(fmt::format("{}: no such file", path));
     file_ = std::make_unique<GzFileInput>(path);
@@ -81,11 +83,24 @@ mrpt::obs::CObservation::Ptr ObservationStream::next()
         try
         {
             // The object's layout is walked and its sizes checked while its bytes are
-            // collected; MRPT then parses the checked bytes from memory.
-            if (!detail::readCheckedRawlogObject(*input_, object_bytes_))
+            // collected (a part it has no layout for is read by MRPT's own reader on the way);
+            // MRPT then parses the collected bytes from memory.
+            std::string unchecked_part;
+            const auto read = detail::readCheckedRawlogObject(
+                *input_, object_bytes_, unchecked_ == UncheckedObjects::Refused, unchecked_part);
+            if (read == detail::RawlogObjectRead::End)
             {
                 ended_ = true;  // clean end between objects
                 return nullptr;
+            }
+            if (read == detail::RawlogObjectRead::Unchecked)
+            {
+                ++unchecked_objects_;
+                if (unchecked_reported_.insert(unchecked_part).second)
+                    fmt::print(stderr,
+                               "{}: object #{}: {}, whose sizes this reader does not check: MRPT reads it as it "
+                               "is (said once)\n",
+                               path_, objects_ + 1, unchecked_part);
             }
             mrpt::io::CMemoryStream memory;
             memory.assignMemoryNotOwn(object_bytes_.data(), object_bytes_.size());

@@ -4,6 +4,7 @@
 #include "rawlog_object_check.h"
 
 #include <fmt/format.h>
+#include <mrpt/serialization/CArchive.h>
 #include <pndt/io/images.h>
 
 #include <algorithm>
@@ -95,37 +96,79 @@ JpegCheck checkJpeg(const uint8_t* bytes, size_t n)
     return out;
 }
 
+/// The stream MRPT's own reader reads an unchecked part from: the part's header bytes (already
+/// collected), then the file, every byte collected as it arrives.
+class CollectingInput : public mrpt::io::CStream
+{
+   public:
+    CollectingInput(mrpt::io::CStream& in, std::string& buf, size_t part_start)
+        : in_(in), buf_(buf), replay_(part_start)
+    {
+    }
+    size_t Read(void* buffer, size_t count) override
+    {
+        auto* out = static_cast<char*>(buffer);
+        const size_t replayed = std::min(count, buf_.size() - replay_);
+        std::memcpy(out, buf_.data() + replay_, replayed);
+        replay_ += replayed;
+        if (replayed == count) return count;
+        const size_t want = count - replayed;
+        if (buf_.size() + want > kMaxRawlogObjectBytes)
+            throw std::runtime_error(
+                fmt::format("an object larger than a reader accepts ({} bytes)", kMaxRawlogObjectBytes));
+        const size_t at = buf_.size();
+        buf_.resize(at + want);
+        const size_t got = in_.Read(&buf_[at], want);
+        buf_.resize(at + got);
+        replay_ = buf_.size();
+        std::memcpy(out + replayed, buf_.data() + at, got);
+        return replayed + got;
+    }
+    size_t Write(const void*, size_t) override { throw std::logic_error("read-only"); }
+    uint64_t Seek(int64_t, CStream::TSeekOrigin) override { throw std::logic_error("cannot seek"); }
+    uint64_t getTotalBytesCount() const override { return in_.getTotalBytesCount(); }
+    uint64_t getPosition() const override { return in_.getPosition(); }
+
+   private:
+    mrpt::io::CStream& in_;
+    std::string& buf_;
+    size_t replay_;
+};
+
 class Walker
 {
    public:
-    Walker(mrpt::io::CStream& in, std::string& bytes) : in_(in), buf_(bytes) {}
+    Walker(mrpt::io::CStream& in, std::string& bytes, bool strict) : in_(in), buf_(bytes), strict_(strict) {}
 
-    bool top()
+    RawlogObjectRead top(std::string& unchecked)
     {
         buf_.clear();
         buf_.resize(1);
         if (in_.Read(&buf_[0], 1) != 1)
         {
             buf_.clear();
-            return false;  // clean end between objects
+            return RawlogObjectRead::End;  // clean end between objects
         }
         const Header h = header(uint8_t(buf_[0]));
         if (h.name == "nullptr")
-        {
             endFlag(h);
-            return true;
+        else
+        {
+            const std::string cls = shortName(h.name);
+            static const std::initializer_list<const char*> kTop = {
+                "CObservation3DRangeScan", "CObservationImage", "CObservationRobotPose", "CObservationOdometry",
+                "CSensoryFrame",           "CActionCollection"};
+            if (std::none_of(kTop.begin(), kTop.end(), [&](const char* c) { return cls == c; }))
+                readUnchecked(0, fmt::format("a '{}' object", h.name),
+                              "it reads CObservation3DRangeScan, CObservationImage, CObservationRobotPose, "
+                              "CObservationOdometry, CSensoryFrame and CActionCollection (their sizes are checked "
+                              "before MRPT allocates them)");
+            else
+                body(h, cls);
         }
-        const std::string cls = shortName(h.name);
-        static const std::initializer_list<const char*> kTop = {
-            "CObservation3DRangeScan", "CObservationImage", "CObservationRobotPose", "CObservationOdometry",
-            "CSensoryFrame",           "CActionCollection"};
-        if (std::none_of(kTop.begin(), kTop.end(), [&](const char* c) { return cls == c; }))
-            fail(fmt::format("a '{}' object, which this reader does not accept: it reads {} (their sizes are "
-                             "checked before MRPT allocates them)",
-                             h.name, "CObservation3DRangeScan, CObservationImage, CObservationRobotPose, "
-                                     "CObservationOdometry, CSensoryFrame and CActionCollection"));
-        body(h, cls);
-        return true;
+        if (first_unchecked_.empty()) return RawlogObjectRead::Checked;
+        unchecked = first_unchecked_;
+        return RawlogObjectRead::Unchecked;
     }
 
    private:
@@ -135,6 +178,25 @@ class Walker
         unsigned version = 0;
         bool old = false;  ///< the pre-0.5.5 header: no end flag
     };
+
+    /// A part without a layout here: refused when strict, else noted (the caller reads it).
+    void notChecked(const std::string& part, const std::string& why)
+    {
+        if (strict_) fail(fmt::format("{}, which this reader does not accept: {}", part, why));
+        if (!first_unchecked_.empty()) return;
+        std::string where;
+        for (const auto& c : context_) where += (where.empty() ? "" : " > ") + c;
+        first_unchecked_ = where.empty() ? part : where + ": " + part;
+    }
+    /// An object of a class without a layout here, whose header starts at buf_[start]: MRPT's
+    /// reader reads it (header again, body, end flag), its bytes collected; the walk goes on.
+    void readUnchecked(size_t start, const std::string& part, const std::string& why)
+    {
+        notChecked(part, why);
+        CollectingInput collect(in_, buf_, start);
+        auto archive = mrpt::serialization::archiveFrom(collect);
+        (void)archive.ReadObject();
+    }
 
     [[noreturn]] void fail(const std::string& what) const
     {
@@ -231,13 +293,15 @@ class Walker
     /// A nested object of one of the classes `expected` (short names); returns its class.
     std::string object(const char* what, std::initializer_list<const char*> expected)
     {
+        const size_t start = buf_.size();
         const Header h = header(get<uint8_t>(what));
         const std::string cls = shortName(h.name);
         if (std::none_of(expected.begin(), expected.end(), [&](const char* c) { return cls == c; }))
         {
             std::string list;
             for (const char* c : expected) list += (list.empty() ? "" : " or ") + std::string(c);
-            fail(fmt::format("{} is a '{}' object, where this reader accepts {}", what, h.name, list));
+            readUnchecked(start, fmt::format("{} is a '{}' object", what, h.name), "there it accepts " + list);
+            return cls;
         }
         body(h, cls);
         return cls;
@@ -468,9 +532,8 @@ class Walker
             const bool external_range = flag("the external-range-image flag");
             str("the external range image's file name");
             if ((points && external_points) || (range && external_range))
-                fail(fmt::format("externally stored {}, which this reader does not load (MRPT would size them from "
-                                 "that file unchecked)",
-                                 points && external_points ? "points" : "range images"));
+                notChecked(fmt::format("externally stored {}", points && external_points ? "points" : "range images"),
+                           "MRPT's load() would size them from that file unchecked");
         }
         if (v >= 5) flag("the range-is-depth flag");
         if (v >= 6) skip(1);  // intensity channel
@@ -614,6 +677,8 @@ class Walker
 
     mrpt::io::CStream& in_;
     std::string& buf_;
+    const bool strict_;
+    std::string first_unchecked_;  ///< the first part read by MRPT unchecked, with its context
     std::vector<std::string> context_;
     int64_t max_matrix_elements_ = 0;
     const char* matrix_what_ = "";
@@ -621,9 +686,10 @@ class Walker
 };
 }  // namespace
 
-bool readCheckedRawlogObject(mrpt::io::CStream& in, std::string& bytes)
+RawlogObjectRead readCheckedRawlogObject(mrpt::io::CStream& in, std::string& bytes, bool strict,
+                                         std::string& unchecked)
 {
-    return Walker(in, bytes).top();
+    return Walker(in, bytes, strict).top(unchecked);
 }
 
 }  // namespace pndt::app::detail
