@@ -81,3 +81,15 @@ void CObservationPanopticMap::getDescriptionAsText(std::ostream& o) const
 }
 
 }  // namespace pndt
+
+// Registered with MRPT's class registry here, by a static object after the class id: the
+// class id holds a std::function, built by this file's dynamic initialisation, which runs in
+// the order of definitions. MRPT_INITIALIZER (__attribute__((constructor))) may run before it
+// and registered a null name (seen with clang).
+namespace
+{
+[[maybe_unused]] const bool kRegisteredCObservationPanopticMap = [] {
+    mrpt::rtti::registerClass(CLASS_ID(pndt::CObservationPanopticMap));
+    return true;
+}();
+}  // namespace

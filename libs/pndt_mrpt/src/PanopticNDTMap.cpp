@@ -112,3 +112,15 @@ std::string PanopticNDTMap::asString() const
 // Likelihood, obstacles, matching: PanopticNDTMap_navigation.cpp.
 
 }  // namespace pndt
+
+// Registered with MRPT's class registry here, by a static object after the class id: the
+// class id holds a std::function, built by this file's dynamic initialisation, which runs in
+// the order of definitions. MRPT_INITIALIZER (__attribute__((constructor))) may run before it
+// and registered a null name (seen with clang).
+namespace
+{
+[[maybe_unused]] const bool kRegisteredPanopticNDTMap = [] {
+    mrpt::rtti::registerClass(CLASS_ID(pndt::PanopticNDTMap));
+    return true;
+}();
+}  // namespace
