@@ -504,6 +504,61 @@ TEST(PluginSerialization, AHugeClassNameLengthIsRefusedBeforeAllocating)
     }
 }
 
+// Issue #23, found by fuzz_map_archive: a bool stored as a byte other than 0 or 1 (MRPT's
+// bool reader takes the byte as it is, undefined behaviour where the map uses it): the first
+// class's is_thing byte (after its name) and the options' class_consistent_instances byte
+// set to 246 are refused naming the field.
+TEST(PluginSerialization, ABoolByteOtherThan0Or1IsRefusedNamingTheField)
+{
+    const auto map = labelledMap();
+    auto bytes = serialize(*map);
+    const std::string& name = map->core().options().classes.classes().at(0).name;
+    std::string field(4, '\0');
+    const uint32_t len = uint32_t(name.size());
+    std::memcpy(field.data(), &len, 4);
+    field += name;
+    const std::string all(bytes.begin(), bytes.end());
+    const size_t at = all.find(field);
+    ASSERT_NE(at, std::string::npos);
+    const size_t is_thing = at + field.size();
+    ASSERT_LE(uint8_t(bytes[is_thing]), 1);
+    auto patched = bytes;
+    patched[is_thing] = 246;
+    try
+    {
+        deserialize(patched);
+        FAIL() << "no error";
+    }
+    catch (const std::exception& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("a class's is_thing is a bool holding 246"), std::string::npos)
+            << e.what();
+    }
+    // After the last class: split_coverage (double), then class_consistent_instances.
+    const auto& classes = map->core().options().classes.classes();
+    size_t after = 0;
+    {
+        std::string last(4, '\0');
+        const uint32_t n = uint32_t(classes.back().name.size());
+        std::memcpy(last.data(), &n, 4);
+        last += classes.back().name;
+        after = all.find(last, at) + last.size() + 1;  // + its is_thing byte
+    }
+    patched = bytes;
+    ASSERT_LE(uint8_t(patched[after + 8]), 1);
+    patched[after + 8] = 246;
+    try
+    {
+        deserialize(patched);
+        FAIL() << "no error";
+    }
+    catch (const std::exception& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("class_consistent_instances is a bool holding 246"), std::string::npos)
+            << e.what();
+    }
+}
+
 // Issue #23 (allocation limits): 10^9 voxels is refused by the count check; a count under
 // the bound that the file does not back fails at the end of the data (read in chunks, never
 // allocated up front).

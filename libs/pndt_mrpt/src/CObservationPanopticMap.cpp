@@ -27,8 +27,9 @@ void CObservationPanopticMap::serializeFrom(mrpt::serialization::CArchive& in, u
     {
         case 0:
         {
-            bool has_map = false;
+            uint8_t has_map = 0;  // a bool, read as its byte: MRPT's bool reader takes any value
             in >> sensorLabel >> timestamp >> sensorPose >> start >> frames >> sequence >> has_map;
+            if (has_map > 1) throw std::runtime_error(fmt::format("the has-map flag is a bool holding {}", has_map));
             map.reset();
             if (has_map) map = in.ReadObject<PanopticNDTMap>();
             break;

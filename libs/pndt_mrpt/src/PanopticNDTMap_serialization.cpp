@@ -86,11 +86,25 @@ std::string readString(CArchive& a, const char* what)
     return s;
 }
 
+/// A bool as MRPT writes it (one byte), refused unless 0 or 1: MRPT's operator>>(bool&)
+/// reads the byte into the bool as it is, and any other value is undefined behaviour where
+/// the bool is used (found by fuzz_map_archive: "load of value 246, which is not a valid
+/// value for type 'bool'" in the propagation).
+bool readBool(CArchive& a, const char* what)
+{
+    uint8_t b = 0;
+    a >> b;
+    if (b > 1) throw std::runtime_error(fmt::format("{} is a bool holding {}", what, unsigned(b)));
+    return b == 1;
+}
+
 MapOptions readOptions(CArchive& a, uint8_t version)
 {
     MapOptions o;
     uint8_t ray = 0;
-    a >> o.voxel_size >> o.max_range >> o.use_ndt >> ray;
+    a >> o.voxel_size >> o.max_range;
+    o.use_ndt = readBool(a, "use_ndt");
+    a >> ray;
     o.ray_mode = ray == 0 ? RayMode::Merged : RayMode::PerPixel;
     a >> o.log_odds_hit >> o.log_odds_miss >> o.log_odds_min >> o.log_odds_max;
     a >> o.ndt_min_samples >> o.ndt_sample_cap >> o.ndt_min_sigma_ratio;
@@ -104,12 +118,16 @@ MapOptions readOptions(CArchive& a, uint8_t version)
     for (auto& c : classes)
     {
         c.name = readString(a, "class name");
-        a >> c.is_thing;
+        c.is_thing = readBool(a, "a class's is_thing");
     }
     o.classes = ClassSet(std::move(classes));
     // Older maps keep the rules they were built with (see the top of this file).
     if (version >= 2)
-        a >> o.split_coverage >> o.class_consistent_instances >> o.fragment_merge_frames;
+    {
+        a >> o.split_coverage;
+        o.class_consistent_instances = readBool(a, "class_consistent_instances");
+        a >> o.fragment_merge_frames;
+    }
     else
     {
         o.split_coverage = 0;
@@ -123,8 +141,12 @@ MapOptions readOptions(CArchive& a, uint8_t version)
     if (version >= 4)
     {
         uint8_t misses = 0, class_voxels = 0;
-        a >> o.occupied_threshold >> o.reset_freed_voxels >> misses >> class_voxels >> o.semantic_eviction >>
-            o.void_bin >> o.fragment_min_mask_pixels >> o.fragment_cover_share >> o.fragment_joint_factor;
+        a >> o.occupied_threshold;
+        o.reset_freed_voxels = readBool(a, "reset_freed_voxels");
+        a >> misses >> class_voxels;
+        o.semantic_eviction = readBool(a, "semantic_eviction");
+        o.void_bin = readBool(a, "void_bin");
+        a >> o.fragment_min_mask_pixels >> o.fragment_cover_share >> o.fragment_joint_factor;
         if (misses > 1 || class_voxels > 1)
             throw std::runtime_error(fmt::format("unknown miss_accumulation {} or instance_class_voxels {}",
                                                  misses, class_voxels));
