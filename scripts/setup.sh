@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages PanopticNDT needs and builds it (Release, with tests).
 # Usage: scripts/setup.sh [build-dir]        (default: build)
-# Set PNDT_SKIP_APT=1 to skip the apt step (packages already installed).
+# Set PNDT_SKIP_APT=1 to skip the apt step (packages already installed), PNDT_HARDENING=1 to
+# also install the fuzzing / sanitizer compilers.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD_DIR=${1:-build}
@@ -19,6 +20,12 @@ PACKAGES=(
   libegl-mesa0 libgl1-mesa-dri     # off-screen rendering of 3D views (EGL, no display)
   xvfb xauth                       # a virtual display for the interactive viewer
 )
+
+# PNDT_HARDENING=1 adds clang and libFuzzer for scripts/fuzz.sh and scripts/test_sanitized.sh
+# (CI sets it; doc/hardening.md).
+if [ "${PNDT_HARDENING:-0}" = 1 ]; then
+  PACKAGES+=(clang libclang-rt-14-dev)
+fi
 
 if [ "${PNDT_SKIP_APT:-0}" != 1 ]; then
   SUDO=""

@@ -7,7 +7,7 @@
 #   tsan     ThreadSanitizer on the threaded parts (build-tsan/): core integrate with 2-3
 #            threads (test_core_threads), the read-ahead rawlog stream and the short-term
 #            maps' background writer (test_app). There is no live pipeline yet to add.
-#   ci       what CI runs (about N min on 2 cores): the fuzz build (clang, ASan + UBSan, the
+#   ci       what CI runs (about 6 min on 2 idle cores): the fuzz build (clang, ASan + UBSan, the
 #            libraries that read outside data: core, sim, io, refine, mrpt) with their tests
 #            (tests/core, tests/io, tests/mrpt) run under the sanitizers, every fuzz target for
 #            CI_FUZZ_SECONDS (default 10) on its committed seeds, and ThreadSanitizer on
@@ -75,7 +75,7 @@ if [ "$WHAT" = tsan ] || [ "$WHAT" = all ]; then
     configure build-tsan "-fsanitize=thread" \
         "$(all_but libs/pndt_core libs/pndt_sim libs/pndt_io libs/pndt_refine libs/pndt_mrpt libs/pndt_app \
             libs/pndt_data libs/pndt_seg libs/pndt_live libs/pndt_oni_virtual apps/pndt_map apps/pndt_generate \
-            apps/pndt_live apps/pndt_pose_send apps/pndt_virtual_camera tests/core tests/app tests/live)"
+            apps/pndt_live apps/pndt_pose_send apps/pndt_virtual_camera tests/core tests/app tests/live tests/seg)"
     cmake --build build-tsan -j"$JOBS" --target "${TSAN_TESTS[@]}"
     export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$SUPP/tsan.supp"
     for t in "${TSAN_TESTS[@]}"; do
