@@ -228,8 +228,12 @@ class SocketSource : public PoseSource
                     }
                 }
             }
+            // Only the connections polled above have an entry in fds: one accepted just now
+            // is at the back of conns and waits for the next poll (found by ASan: fds was read
+            // one past its end, a garbage revents, then a blocking recv).
+            const size_t polled = fds.size();
             size_t i = 1;
-            for (auto it = conns.begin(); it != conns.end(); ++i)
+            for (auto it = conns.begin(); it != conns.end() && i < polled; ++i)
             {
                 if (fds[i].revents & (POLLIN | POLLHUP | POLLERR))
                 {
