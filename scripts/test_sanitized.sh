@@ -62,7 +62,15 @@ if [ "$WHAT" = asan ] || [ "$WHAT" = asan-ci ] || [ "$WHAT" = all ]; then
         configure $B "$ASAN_FLAGS" ""
     fi
     cmake --build $B -j"$JOBS"
-    ctest --test-dir $B --output-on-failure -j"$JOBS" --timeout 1500 -E 'NoAllocation\.'
+    # Left out (doc/hardening.md, "Sanitizers"): NoAllocation.* (replaces operator new, which
+    # ASan owns); the tests that run stock MRPT executables (rawlog-edit, RawLogViewer) on our
+    # plugin, which cannot load a library built with -fsanitize=address ("ASan runtime does not
+    # come first"); install_consumer (builds a project without the sanitizer flags against
+    # these libraries); PluginView.VisualizationAndText (gcc's UBSan reports MRPT's own
+    # CEllipsoid3D constructor, mrpt/opengl/CEllipsoid3D.h:39, as misaligned, with make_shared
+    # and with new alike; clang's does not; UBSan suppressions need recoverable checks).
+    ctest --test-dir $B --output-on-failure -j"$JOBS" --timeout 1500 \
+        -E 'NoAllocation\.|MrptTools\.|MapObservation\.Stock|RawlogEditReadsTheWrittenMaps|MapRawlog\.(ACrashLeaves|PndtMapOutputIsListed|PndtMapKilledMidRun)|install_consumer|PluginView\.VisualizationAndText'
 fi
 
 if [ "$WHAT" = tsan ] || [ "$WHAT" = all ]; then

@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <deque>
+#include <utility>
 
 namespace pndt::nav
 {
@@ -13,6 +14,15 @@ PlannedPath planPath(const mrpt::maps::COccupancyGridMap2D& grid, const Eigen::V
                      const Eigen::Vector2d& goal, double robot_radius, double min_step)
 {
     PlannedPath out;
+    // PlannerSimple2D indexes the grid at the start and goal cells without a bounds check
+    // (ASan: a SEGV inside computePath for a goal outside the map): refused here, clearly.
+    for (const auto& [what, p] : {std::pair{"start", start}, std::pair{"goal", goal}})
+        if (!(p.x() >= grid.getXMin() && p.x() < grid.getXMax() && p.y() >= grid.getYMin() && p.y() < grid.getYMax()))
+        {
+            out.reason = fmt::format("the {} ({:.2f}, {:.2f}) is outside the grid ([{:.2f}, {:.2f}] x [{:.2f}, {:.2f}] m)",
+                                     what, p.x(), p.y(), grid.getXMin(), grid.getXMax(), grid.getYMin(), grid.getYMax());
+            return out;
+        }
     mrpt::nav::PlannerSimple2D planner;
     planner.robotRadius = float(robot_radius);
     planner.minStepInReturnedPath = float(min_step);
