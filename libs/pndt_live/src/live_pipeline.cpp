@@ -249,7 +249,7 @@ void LivePipeline::segmentationLoop()
     q_->cv.notify_all();
 }
 
-void LivePipeline::mapItem(Item& it, std::vector<PairedFrame>& done)
+void LivePipeline::mapItem(Item& it, std::vector<PairedFrame>& done, const std::function<void()>& integrate_done)
 {
     // Never mapped with a stale pose: wait (bounded) for a pose at or after the frame.
     if (!poses_.waitFor(it.t, o_.pose_wait))
@@ -284,14 +284,23 @@ void LivePipeline::mapItem(Item& it, std::vector<PairedFrame>& done)
         ++stats_.no_pose_skipped;
         return;
     }
+    // Each observation is emitted, paired and what it completes integrated before the next
+    // one, as pndt-map does when it replays the recording: a hand-over (a map added to
+    // maps.rawlog) then falls between the same inputs in both files. (Emitting the label
+    // images before the scan completed the frame before put them ahead of the map in live
+    // runs where the previous frame went unlabelled.)
     emit(it.frame.scan);
-    if (it.semantic) emit(it.semantic), emit(it.instance);
     if (q_->recorder) ++stats_.recorded_frames;
     pairer_.pushScan(*it.frame.scan, *T, done);
+    integrate_done();
     if (it.semantic)
     {
+        emit(it.semantic);
         pairer_.push(*it.semantic, mrpt::poses::CPose3D(), done);
+        integrate_done();
+        emit(it.instance);
         pairer_.push(*it.instance, mrpt::poses::CPose3D(), done);
+        integrate_done();
     }
 }
 
@@ -338,7 +347,7 @@ void LivePipeline::mappingLoop()
                 it = q_->to_map.front();
                 q_->to_map.pop_front();
             }
-            mapItem(*it, done);
+            mapItem(*it, done, integrateDone);
             integrateDone();
         }
         pairer_.flush(done);

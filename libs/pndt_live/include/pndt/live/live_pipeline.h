@@ -100,7 +100,7 @@ class LivePipeline
     void captureLoop(const std::atomic<bool>& stop);
     void segmentationLoop();
     void mappingLoop();
-    void mapItem(Item& it, std::vector<PairedFrame>& done);
+    void mapItem(Item& it, std::vector<PairedFrame>& done, const std::function<void()>& integrate_done);
 
     FrameGrabber& grabber_;
     seg::Segmenter* segmenter_;
