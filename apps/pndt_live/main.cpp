@@ -17,6 +17,7 @@
 
 #include <atomic>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
@@ -40,7 +41,9 @@ constexpr int kExitError = 1, kExitWriteFailed = 3, kExitCameraLost = 4;
 
 }  // namespace
 
-int main(int argc, char** argv)
+namespace
+{
+int runLive(int argc, char** argv)
 {
     CLI::App app{"pndt-live: an OpenNI2 RGB-D camera + streamed poses -> short-term panoptic NDT maps"};
     bool list_devices = false, no_registration = false, no_color = false;
@@ -342,4 +345,20 @@ int main(int argc, char** argv)
         return kExitError;
     }
     return 0;
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+    const int rc = runLive(argc, argv);
+    // A grab thread left blocked inside MRPT / OpenNI2 (a hung camera): the outputs are
+    // written, and OpenNI2's exit-time shutdown would close the device under that thread
+    // (ThreadSanitizer reported the race): leave without running the exit handlers.
+    if (pndt::live::MrptCapture::abandoned())
+    {
+        std::fflush(stdout);
+        std::fflush(stderr);
+        std::_Exit(rc);
+    }
+    return rc;
 }

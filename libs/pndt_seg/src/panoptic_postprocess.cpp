@@ -72,8 +72,15 @@ float skipMargin(float tolerance, int classes)
 
 // The hot loops, compiled twice (AVX2 + FMA, and the baseline) and picked at load time by the
 // CPU: a Debian binary cannot assume AVX2, most robots' CPUs have it.
+// Not under ThreadSanitizer: the clones' ifunc resolver runs while the dynamic loader
+// relocates the program, before TSan's runtime is set up, and crashed every binary linking
+// pndt_seg at start (found by scripts/test_sanitized.sh tsan).
 #if defined(__x86_64__) && defined(__GNUC__)
+#if defined(__SANITIZE_THREAD__)
+#define PNDT_SIMD_CLONES
+#else
 #define PNDT_SIMD_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#endif
 #define PNDT_HAVE_AVX2_KERNEL 1
 #else
 #define PNDT_SIMD_CLONES
