@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # The tests under sanitizers, each build in its own folder (doc/hardening.md):
 #   asan     AddressSanitizer + UndefinedBehaviorSanitizer (+ LeakSanitizer), every test
-#            folder (build-asan/; long: about an hour of build on 2 cores);
+#            folder (build-asan/; about 15 min of build and 10 of tests on 2 idle cores);
 #   asan-ci  the same on the core, io, map-plugin, app and fault tests (and the libraries
 #            and apps they need), the subset proposed for CI;
 #   tsan     ThreadSanitizer on the threaded parts (build-tsan/): core integrate with 2-3
 #            threads (test_core_threads), the read-ahead rawlog stream and the short-term
-#            maps' background writer (test_app). There is no live pipeline yet to add.
+#            maps' background writer (test_app, test_pndt_map_cli), the live pose servers and
+#            pndt-live's pipeline on the virtual camera (test_live_pose_stream, test_live_cli);
+#            about 10 min of build and 8 of tests on 2 idle cores;
 #   ci       what CI runs (about 6 min on 2 idle cores): the fuzz build (clang, ASan + UBSan, the
 #            libraries that read outside data: core, sim, io, refine, mrpt) with their tests
 #            (tests/core, tests/io, tests/mrpt) run under the sanitizers, every fuzz target for
@@ -91,7 +93,13 @@ if [ "$WHAT" = tsan ] || [ "$WHAT" = all ]; then
     cmake --build build-tsan -j"$JOBS" --target "${TSAN_TESTS[@]}"
     for t in "${TSAN_TESTS[@]}"; do
         echo "== $t (ThreadSanitizer)"
-        "build-tsan/bin/$t" --gtest_brief=1
+        filter=()
+        # Two live tests measure the 30 Hz virtual camera in real time, which a TSan build
+        # cannot keep up with (the frames before an unplug, two backends' frames compared):
+        # left out here, they run in the normal suite.
+        [ "$t" = test_live_cli ] &&
+            filter=(--gtest_filter=-LiveCli.MrptAndOpenni2Backends*:LiveCli.CameraUnpluggedMidRunWritesTheMapAndExitsWithCode4)
+        "build-tsan/bin/$t" --gtest_brief=1 "${filter[@]}"
     done
 fi
 
