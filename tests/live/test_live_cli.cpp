@@ -233,7 +233,7 @@ TEST_F(LiveCli, SigtermFinalisesAndWritesTheCurrentMap)
     const std::string cmd = fmt::format(
         "cd {0} && (PNDT_VIRTUAL_CAMERA={0}/camera.cfg LD_LIBRARY_PATH={1} {2} --pose-tcp {3} --pose-format tum "
         "--period 0 -o {0}/live > live.out 2> live.err & pid=$!; echo $pid > live.pid; wait $pid; echo $? > live.rc) & "
-        "{4} {0}/poses.txt --to 127.0.0.1:{3} --rate 0 > send.out 2>&1; "
+        "{4} {0}/poses.txt --to 127.0.0.1:{3} --rate 0 > {0}/send.out 2>&1; "
         // SIGTERM once the pipeline has run 3 s by its own status line (not after a fixed
         // sleep: a sanitizer build starts slower), at most 60 s.
         "for i in $(seq 600); do grep -qE '^\\[ +([3-9]|[1-9][0-9]+)\\.[0-9] s\\]' {0}/live.out && break; sleep 0.1; "
