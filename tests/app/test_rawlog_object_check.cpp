@@ -131,6 +131,25 @@ std::string readInChildUnderLimit(const fs::path& path, size_t extra_mb = 256,
     return out;
 }
 
+/// A scan with an 8 x 10 range image of 900 units (its rows, cols: "\x08\0\0\0\x0a\0\0\0").
+mrpt::obs::CObservation3DRangeScan::Ptr smallScan()
+{
+    auto scan = mrpt::obs::CObservation3DRangeScan::Create();
+    scan->hasRangeImage = true;
+    scan->rangeImage_setSize(8, 10);
+    scan->rangeImage.fill(900);
+    return scan;
+}
+/// A rawlog of one smallScan() whose range image MRPT stores in `file` (under `base_dir`).
+void writeExternalRangeScan(const fs::path& rawlog, const std::string& file, const std::string& base_dir)
+{
+    mrpt::io::CFileGZOutputStream out(rawlog.string());
+    auto ar = mrpt::serialization::archiveFrom(out);
+    auto scan = smallScan();
+    scan->rangeImage_convertToExternalStorage(file, base_dir);
+    ar << *scan;
+}
+
 /// Every object of the file as MRPT's own reader returns it (sensory frames flattened,
 /// actions dropped), each serialised again, and the same for ObservationStream.
 std::vector<std::string> serialised(const std::vector<mrpt::serialization::CSerializable::Ptr>& objects)
@@ -246,11 +265,7 @@ TEST(RawlogObjectCheck, ValidRawlogsReadExactlyAsMrptReadsThem)
             auto pose = mrpt::obs::CObservationRobotPose::Create();
             pose->sensorLabel = "GT_POSE";
             sf.insert(pose);
-            auto scan = mrpt::obs::CObservation3DRangeScan::Create();
-            scan->hasRangeImage = true;
-            scan->rangeImage_setSize(8, 10);
-            scan->rangeImage.fill(900);
-            sf.insert(scan);
+            sf.insert(smallScan());
             ar << sf;
         }
     }
@@ -403,16 +418,7 @@ TEST(RawlogObjectCheck, StrictlyClassesAndVersionsItDoesNotCheckAreRefusedByName
 
     // A range image stored in a file of its own (MRPT's load() would size it from that
     // file, unchecked): refused strictly, naming it.
-    {
-        mrpt::io::CFileGZOutputStream out((dir.path / "external.rawlog").string());
-        auto ar = mrpt::serialization::archiveFrom(out);
-        mrpt::obs::CObservation3DRangeScan scan;
-        scan.hasRangeImage = true;
-        scan.rangeImage_setSize(8, 10);
-        scan.rangeImage.fill(900);
-        scan.rangeImage_convertToExternalStorage("range.bin", dir.path.string() + "/");
-        ar << scan;
-    }
+    writeExternalRangeScan(dir.path / "external.rawlog", "range.bin", dir.path.string() + "/");
     const std::string external = readInChildUnderLimit(dir.path / "external.rawlog");
     EXPECT_NE(external.find("at object #1"), std::string::npos) << external;
     EXPECT_NE(external.find("CObservation3DRangeScan v10: externally stored range images, which this reader does "
@@ -451,11 +457,7 @@ TEST(RawlogObjectCheck, OtherSensorsObjectsAreReadByMrptByDefaultAndTheCameraSta
         ar << pose << laser;          // observations-only format
         mrpt::obs::CSensoryFrame sf;  // a sensory frame: laser, camera scan, pose
         sf.insert(mrpt::obs::CObservation2DRangeScan::Create(laser));
-        auto scan = mrpt::obs::CObservation3DRangeScan::Create();
-        scan->hasRangeImage = true;
-        scan->rangeImage_setSize(8, 10);
-        scan->rangeImage.fill(900);
-        sf.insert(scan);
+        sf.insert(smallScan());
         sf.insert(mrpt::obs::CObservationRobotPose::Create(pose));
         ar << sf << pose;
     }
@@ -499,16 +501,7 @@ TEST(RawlogObjectCheck, OtherSensorsObjectsAreReadByMrptByDefaultAndTheCameraSta
 TEST(RawlogObjectCheck, ExternallyStoredRangeImagesAreReadByMrptByDefault)
 {
     Dir dir("pndt_rawlog_check_external_default");
-    {
-        mrpt::io::CFileGZOutputStream out((dir.path / "external.rawlog").string());
-        auto ar = mrpt::serialization::archiveFrom(out);
-        mrpt::obs::CObservation3DRangeScan scan;
-        scan.hasRangeImage = true;
-        scan.rangeImage_setSize(8, 10);
-        scan.rangeImage.fill(900);
-        scan.rangeImage_convertToExternalStorage((dir.path / "range.bin").string(), "");
-        ar << scan;
-    }
+    writeExternalRangeScan(dir.path / "external.rawlog", (dir.path / "range.bin").string(), "");
     pndt::app::ObservationStream in((dir.path / "external.rawlog").string());
     auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(in.next());
     ASSERT_TRUE(obs) << in.stopReason();

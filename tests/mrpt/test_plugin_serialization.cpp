@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <utility>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -476,32 +477,44 @@ TEST(PluginSerialization, CorruptCountsAreRejectedBeforeAllocating)
     EXPECT_THROW(deserialize(bytes), std::exception);
 }
 
+namespace
+{
+/// A std::string as MRPT writes it: u32 length, then the bytes.
+std::string archivedString(const std::string& text)
+{
+    std::string field(4, '\0');
+    const uint32_t len = uint32_t(text.size());
+    std::memcpy(field.data(), &len, 4);
+    return field + text;
+}
+/// The message deserialize() throws for `bytes`, or "no error".
+std::string deserializeError(const std::vector<uint8_t>& bytes)
+{
+    try
+    {
+        deserialize(bytes);
+    }
+    catch (const std::exception& e)
+    {
+        return e.what();
+    }
+    return "no error";
+}
+}  // namespace
+
 // Issue #23, found by fuzz_map_archive: a class name's length field claiming 1.6 GB made
 // MRPT's string reader allocate it (libFuzzer: out-of-memory (malloc(1632632838))).
 TEST(PluginSerialization, AHugeClassNameLengthIsRefusedBeforeAllocating)
 {
     const auto map = labelledMap();
     auto bytes = serialize(*map);
-    const std::string& name = map->core().options().classes.classes().at(0).name;
-    std::string field(4, '\0');
-    const uint32_t len = uint32_t(name.size());
-    std::memcpy(field.data(), &len, 4);
-    field += name;
-    const std::string all(bytes.begin(), bytes.end());
-    const size_t at = all.find(field);
+    const std::string field = archivedString(map->core().options().classes.classes().at(0).name);
+    const size_t at = std::string(bytes.begin(), bytes.end()).find(field);
     ASSERT_NE(at, std::string::npos);
     const uint32_t huge = 1632632838u;
     std::memcpy(&bytes[at], &huge, 4);
-    try
-    {
-        deserialize(bytes);
-        FAIL() << "no error";
-    }
-    catch (const std::exception& e)
-    {
-        EXPECT_NE(std::string(e.what()).find("implausible class name length 1632632838"), std::string::npos)
-            << e.what();
-    }
+    const std::string error = deserializeError(bytes);
+    EXPECT_NE(error.find("implausible class name length 1632632838"), std::string::npos) << error;
 }
 
 // Issue #23, found by fuzz_map_archive: a bool stored as a byte other than 0 or 1 (MRPT's
@@ -511,51 +524,27 @@ TEST(PluginSerialization, AHugeClassNameLengthIsRefusedBeforeAllocating)
 TEST(PluginSerialization, ABoolByteOtherThan0Or1IsRefusedNamingTheField)
 {
     const auto map = labelledMap();
-    auto bytes = serialize(*map);
-    const std::string& name = map->core().options().classes.classes().at(0).name;
-    std::string field(4, '\0');
-    const uint32_t len = uint32_t(name.size());
-    std::memcpy(field.data(), &len, 4);
-    field += name;
-    const std::string all(bytes.begin(), bytes.end());
-    const size_t at = all.find(field);
-    ASSERT_NE(at, std::string::npos);
-    const size_t is_thing = at + field.size();
-    ASSERT_LE(uint8_t(bytes[is_thing]), 1);
-    auto patched = bytes;
-    patched[is_thing] = 246;
-    try
-    {
-        deserialize(patched);
-        FAIL() << "no error";
-    }
-    catch (const std::exception& e)
-    {
-        EXPECT_NE(std::string(e.what()).find("a class's is_thing is a bool holding 246"), std::string::npos)
-            << e.what();
-    }
-    // After the last class: split_coverage (double), then class_consistent_instances.
+    const auto bytes = serialize(*map);
     const auto& classes = map->core().options().classes.classes();
-    size_t after = 0;
+    const std::string all(bytes.begin(), bytes.end());
+    const std::string first = archivedString(classes.front().name);
+    const size_t at = all.find(first);
+    ASSERT_NE(at, std::string::npos);
+    const size_t is_thing = at + first.size();
+    // After the last class (its name, its is_thing byte): split_coverage (double), then
+    // class_consistent_instances.
+    const std::string last = archivedString(classes.back().name);
+    const size_t last_at = all.find(last, at);
+    ASSERT_NE(last_at, std::string::npos);
+    const size_t consistent = last_at + last.size() + 1 + 8;
+    for (const auto& [offset, message] : {std::pair{is_thing, "a class's is_thing is a bool holding 246"},
+                                          std::pair{consistent, "class_consistent_instances is a bool holding 246"}})
     {
-        std::string last(4, '\0');
-        const uint32_t n = uint32_t(classes.back().name.size());
-        std::memcpy(last.data(), &n, 4);
-        last += classes.back().name;
-        after = all.find(last, at) + last.size() + 1;  // + its is_thing byte
-    }
-    patched = bytes;
-    ASSERT_LE(uint8_t(patched[after + 8]), 1);
-    patched[after + 8] = 246;
-    try
-    {
-        deserialize(patched);
-        FAIL() << "no error";
-    }
-    catch (const std::exception& e)
-    {
-        EXPECT_NE(std::string(e.what()).find("class_consistent_instances is a bool holding 246"), std::string::npos)
-            << e.what();
+        ASSERT_LE(uint8_t(bytes[offset]), 1);
+        auto patched = bytes;
+        patched[offset] = 246;
+        const std::string error = deserializeError(patched);
+        EXPECT_NE(error.find(message), std::string::npos) << error;
     }
 }
 
