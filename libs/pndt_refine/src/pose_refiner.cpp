@@ -1,5 +1,6 @@
 // NDT frame-to-map registration with Ceres (issue #22). See pose_refiner.h.
 #include <pndt/refine/pose_refiner.h>
+#include <pndt/voxel_key.h>
 
 #include <ceres/sized_cost_function.h>
 #include <ceres/loss_function.h>
@@ -40,8 +41,9 @@ struct Assoc
 struct GaussianSearch
 {
     virtual ~GaussianSearch() = default;
-    /// The nearest Gaussian (Mahalanobis, own voxel + 26 neighbours, within the gate), or nullptr.
-    virtual const struct CachedGaussian* nearest(const Eigen::Vector3d& x) = 0;
+    /// The nearest Gaussian (Mahalanobis, own voxel + 26 neighbours, within the gate) of frame
+    /// point `i` moved to `x`, or nullptr.
+    virtual const struct CachedGaussian* nearest(const Eigen::Vector3d& x, uint32_t i) = 0;
 };
 
 
@@ -71,7 +73,7 @@ class PointToDistribution final : public ceres::SizedCostFunction<3, 4, 3>
         const Assoc& a = (*points_)[i_];
         const Eigen::Quaterniond Q(q[3], q[0], q[1], q[2]);
         const Eigen::Vector3d x = Q * a.p + Eigen::Vector3d(t[0], t[1], t[2]);
-        const CachedGaussian* g = search_->nearest(x);
+        const CachedGaussian* g = search_->nearest(x, i_);
         Eigen::Map<Eigen::Vector3d> r(residuals);
         if (!g)
         {
@@ -179,36 +181,73 @@ std::string RefineStats::summary() const
     return s.str();
 }
 
+/// The Gaussians around the voxel a frame point fell into when it was last looked up: a
+/// point moves by millimetres between cost evaluations, so its 27-voxel neighbourhood is
+/// searched in the map's voxel table only when it enters another voxel.
+struct Neighbourhood
+{
+    VoxelKey key;
+    bool valid = false;
+    uint8_t count = 0;   ///< Gaussians among the 27 voxels (in search order)
+    uint32_t begin = 0;  ///< first of them in Impl::candidates
+};
+
 struct PoseRefiner::Impl final : GaussianSearch
 {
     const PanopticMap* map = nullptr;
     double min_var = 0, gate2 = 0;
     uint32_t min_samples = 0;
-    const CachedGaussian* nearest(const Eigen::Vector3d& x) override
+    std::vector<Neighbourhood> around;   ///< per frame point (index as in points)
+    std::vector<uint32_t> candidates;    ///< indices into gauss, a run per Neighbourhood
+
+    /// Forgets every point's neighbourhood (a new frame, or the Gaussians were rebuilt).
+    void forgetNeighbourhoods(size_t n_points)
+    {
+        around.assign(n_points, Neighbourhood{});
+        candidates.clear();
+    }
+    const CachedGaussian* nearest(const Eigen::Vector3d& x, uint32_t i) override
     {
         const VoxelKey k = map->grid().keyOf(x);
+        Neighbourhood& nb = around[i];
+        if (!nb.valid || nb.key != k)
+        {
+            // Same search order as before the cache (z, y, x from -1): ties go the same way.
+            nb.key = k;
+            nb.valid = true;
+            nb.begin = uint32_t(candidates.size());
+            nb.count = 0;
+            for (int dz = -1; dz <= 1; ++dz)
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx)
+                    {
+                        const uint32_t v = map->voxels().find(VoxelKey{k.x + dx, k.y + dy, k.z + dz});
+                        if (v == kNoRecord) continue;
+                        const uint32_t g = gaussianIndex(*map, v, min_var);
+                        if (g == kNoRecord) continue;
+                        candidates.push_back(g);
+                        ++nb.count;
+                    }
+        }
         double best = gate2;
         const CachedGaussian* best_g = nullptr;
-        for (int dz = -1; dz <= 1; ++dz)
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx)
-                {
-                    const uint32_t v = map->voxels().find(VoxelKey{k.x + dx, k.y + dy, k.z + dz});
-                    if (v == kNoRecord) continue;
-                    const uint32_t g = gaussianIndex(*map, v, min_var);
-                    if (g == kNoRecord) continue;
-                    const Eigen::Vector3d d = x - gauss[g].mu;
-                    const double m2 = d.dot(gauss[g].info * d);
-                    if (m2 < best)
-                    {
-                        best = m2;
-                        best_g = &gauss[g];
-                    }
-                }
+        for (uint32_t j = nb.begin, end = nb.begin + nb.count; j < end; ++j)
+        {
+            const CachedGaussian& g = gauss[candidates[j]];
+            const Eigen::Vector3d d = x - g.mu;
+            const double m2 = d.dot(g.info * d);
+            if (m2 < best)
+            {
+                best = m2;
+                best_g = &g;
+            }
+        }
         return best_g;
     }
 
-    tsl::robin_map<uint64_t, uint32_t> cell_of;
+    // The core's key mixer: std::hash<uint64_t> is the identity, and the table's power-of-two
+    // mask kept only z's bits of a packed cube key (probe chains of thousands: 80 % of the time).
+    tsl::robin_map<uint64_t, uint32_t, PackedKeyHash> cell_of;
     std::vector<Cell> cells;
     std::vector<Assoc> points;     ///< all subsampled points (p, weight)
     std::vector<Assoc> assoc;      ///< associated ones (what the costs read)
@@ -359,7 +398,6 @@ RefineResult PoseRefiner::refine(const PanopticMap& map, const PanopticFrame& fr
     m.gauss.clear();
     const double min_sigma = std::max(o.min_sigma_ratio * voxel, 1e-4);
     const double min_var = min_sigma * min_sigma;
-    const VoxelGrid& grid = map.grid();
 
     double q[4], t[3];  // Eigen quaternion order x, y, z, w
     auto setParams = [&](const Pose& T) {
@@ -396,11 +434,13 @@ RefineResult PoseRefiner::refine(const PanopticMap& map, const PanopticFrame& fr
     m.min_samples = o.min_samples;
     // Gaussians are referenced by pointer during a solve: room for every voxel the points can reach.
     m.gauss.reserve(std::max(m.gauss.capacity(), m.points.size() * 27));
+    m.forgetNeighbourhoods(m.points.size());
     auto associate = [&](const Pose& T) {
         m.assoc.clear();
-        for (const Assoc& pt : m.points)
+        for (uint32_t i = 0; i < m.points.size(); ++i)
         {
-            const CachedGaussian* g = m.nearest(T * pt.p);
+            const Assoc& pt = m.points[i];
+            const CachedGaussian* g = m.nearest(T * pt.p, i);
             if (!g) continue;
             Assoc a = pt;
             a.mu = g->mu;
@@ -427,6 +467,7 @@ RefineResult PoseRefiner::refine(const PanopticMap& map, const PanopticFrame& fr
             m.min_var = fs * fs;
             m.gauss_of.clear();
             m.gauss.clear();
+            m.forgetNeighbourhoods(m.points.size());
         }
         ceres::Problem problem(po);
         problem.AddParameterBlock(q, 4, &m.quaternion);
