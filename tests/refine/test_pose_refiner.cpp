@@ -228,6 +228,46 @@ TEST(PoseRefiner, FallbackPathIsCounted)
     EXPECT_EQ(off.stats().fallbacks(), 0u);
 }
 
+TEST(PoseRefiner, CameraBuffersRefineAsTheFloatFrame)
+{
+    // uint16 millimetres and float ray lengths in the caller's (strided) buffers, through
+    // FrameView: the same pose as the float frame of the same depths (the map's conversion).
+    const pndt::PanopticMap map = buildMap(mappingPoses());
+    const Pose truth = lookAt(kEye + Eigen::Vector3d(0.1, 0.05, 0.0), kTarget + Eigen::Vector3d(0.1, 0, 0.1));
+    const pndt::PanopticFrame rendered = render(truth);
+    const int W = rendered.K.width, H = rendered.K.height;
+    const size_t stride = size_t(W) + 7;
+    std::vector<uint16_t> mm(stride * size_t(H), 0);
+    std::vector<float> ray(stride * size_t(H), 0.f);
+    pndt::PanopticFrame as_float = rendered;  // the depths the uint16 view stands for
+    for (int r = 0; r < H; ++r)
+        for (int c = 0; c < W; ++c)
+        {
+            const float z = rendered.depth.at(r, c);
+            mm[size_t(r) * stride + size_t(c)] = uint16_t(std::lround(z * 1000.f));
+            as_float.depth.at(r, c) = float(mm[size_t(r) * stride + size_t(c)]) * 0.001f;
+            ray[size_t(r) * stride + size_t(c)] = float(double(z) * rendered.K.unproject(c, r, 1.0).norm());
+        }
+    const Pose external = perturb(truth, {0.02, -0.01, 0.015}, {0.3, 1.0, -0.4}, 1.0 * kDeg);
+    auto refineWith = [&](auto&& frame) { return pndt::refine::PoseRefiner(wideBasin()).refine(map, frame, external); };
+    const auto from_float = refineWith(as_float);
+    ASSERT_EQ(from_float.outcome, pndt::refine::Outcome::Accepted);
+
+    pndt::FrameView view(rendered);
+    view.depth = pndt::DepthView::units(mm.data(), W, H, 0.001, stride);
+    const auto from_mm = refineWith(view);
+    ASSERT_EQ(from_mm.outcome, pndt::refine::Outcome::Accepted);
+    EXPECT_TRUE(from_mm.pose.isApprox(from_float.pose, 1e-12));
+    EXPECT_EQ(from_mm.points, from_float.points);
+
+    view.depth = pndt::DepthView::metres(ray.data(), W, H, stride, pndt::RangeKind::Ray);
+    const auto from_ray = refineWith(view);
+    ASSERT_EQ(from_ray.outcome, pndt::refine::Outcome::Accepted);
+    EXPECT_LT((from_ray.pose.translation() - truth.translation()).norm(), 0.005);
+    EXPECT_LT(angleBetween(from_ray.pose, truth), 0.2 * kDeg);
+    EXPECT_LT((from_ray.pose.translation() - refineWith(rendered).pose.translation()).norm(), 1e-4);
+}
+
 TEST(PoseRefiner, BadOptionsThrow)
 {
     auto o = enabled();

@@ -28,4 +28,16 @@ TEST(RefinePlugin, InsertionOptionRunsTheRefiner)
     EXPECT_EQ(st.accepted(), 0u);  // the first frame meets an empty map, a single plane never pins 6 DoF
     EXPECT_EQ(st.fallbacks(), 4u);
     EXPECT_FALSE(map.isEmpty());
+
+    // The in-place path (a range scan's uint16 image) is refined too.
+    pndt::PanopticNDTMap view_map;
+    view_map.insertionOptions.refine_pose = true;
+    const std::vector<uint16_t> mm(80 * 60, 2000);
+    pndt::FrameView v;
+    v.K = f.K;
+    v.depth = pndt::DepthView::units(mm.data(), 80, 60, 0.001);
+    for (int i = 0; i < 3; ++i) view_map.integrate(v, pndt::Pose::Identity());
+    ASSERT_NE(view_map.refiner(), nullptr);
+    EXPECT_EQ(view_map.refiner()->stats().frames, 3u);
+    EXPECT_EQ(view_map.refiner()->stats().fallbacks(), 3u);
 }

@@ -48,29 +48,30 @@ void PanopticNDTMap::internal_clear()
 
 bool PanopticNDTMap::isEmpty() const { return map_.voxels().empty(); }
 
+Pose PanopticNDTMap::refinedPose(const FrameView& frame, const Pose& T_world_cam)
+{
+    if (!insertionOptions.refine_pose) return T_world_cam;
+    if (!refiner_)
+    {
+        refine::RefineOptions ro;
+        ro.enabled = true;
+        ro.thing_weight = insertionOptions.refine_thing_weight;
+        ro.loss_scale = insertionOptions.refine_loss_scale;
+        refiner_ = std::make_shared<refine::PoseRefiner>(ro);
+    }
+    return refiner_->refine(map_, frame, T_world_cam).pose;
+}
+
 FrameStats PanopticNDTMap::integrate(const PanopticFrame& frame, const Pose& T_world_cam)
 {
-    Pose T = T_world_cam;
-    if (insertionOptions.refine_pose)
-    {
-        if (!refiner_)
-        {
-            refine::RefineOptions ro;
-            ro.enabled = true;
-            ro.thing_weight = insertionOptions.refine_thing_weight;
-            ro.loss_scale = insertionOptions.refine_loss_scale;
-            refiner_ = std::make_shared<refine::PoseRefiner>(ro);
-        }
-        T = refiner_->refine(map_, frame, T).pose;
-    }
-    const FrameStats st = map_.integrate(frame, T);
+    const FrameStats st = map_.integrate(frame, refinedPose(FrameView(frame), T_world_cam));
     stats_.totals += st;
     return st;
 }
 
 FrameStats PanopticNDTMap::integrate(const FrameView& frame, const Pose& T_world_cam)
 {
-    const FrameStats st = map_.integrate(frame, T_world_cam);
+    const FrameStats st = map_.integrate(frame, refinedPose(frame, T_world_cam));
     stats_.totals += st;
     return st;
 }

@@ -309,6 +309,29 @@ void PoseRefiner::reset()
 
 RefineResult PoseRefiner::refine(const PanopticMap& map, const PanopticFrame& frame, const Pose& T_ext)
 {
+    return refine(map, FrameView(frame), T_ext);
+}
+
+namespace
+{
+/// Depth in metres along z at (r, c) of a caller's view (uint16 units or float metres, z or
+/// ray length), converted as the map converts it (frame_pixels.cpp: float units x scale, ray
+/// lengths divided in double), so a view and the float frame it stands for refine alike.
+/// Not positive or not finite = no depth.
+double depthZ(const FrameView& f, int r, int c)
+{
+    const DepthView& d = f.depth;
+    const size_t i = size_t(r) * d.rowStride() + size_t(c);
+    const float v = d.is_uint16 ? float(static_cast<const uint16_t*>(d.data)[i]) * float(d.metres_per_unit)
+                                : static_cast<const float*>(d.data)[i];
+    if (d.measures == RangeKind::Z || !(v > 0.f) || !std::isfinite(v)) return v;
+    const double x = (c - f.K.cx) / f.K.fx, y = (r - f.K.cy) / f.K.fy;
+    return float(double(v) / std::sqrt(1.0 + x * x + y * y));  // ray length -> z
+}
+}  // namespace
+
+RefineResult PoseRefiner::refine(const PanopticMap& map, const FrameView& frame, const Pose& T_ext)
+{
     const auto t0 = std::chrono::steady_clock::now();
     Impl& m = *impl_;
     const RefineOptions& o = options_;
@@ -353,17 +376,18 @@ RefineResult PoseRefiner::refine(const PanopticMap& map, const PanopticFrame& fr
     const CameraIntrinsics& K = frame.K;
     m.cell_of.clear();
     m.cells.clear();
-    const bool labels = frame.hasLabels() && frame.semantic.sameSize(frame.depth.width, frame.depth.height);
+    const bool labels = frame.hasLabels() && frame.semantic.width == frame.depth.width &&
+                        frame.semantic.height == frame.depth.height;
     for (int r = 0; r < frame.depth.height; r += o.pixel_step)
         for (int c = 0; c < frame.depth.width; c += o.pixel_step)
         {
-            const float z = frame.depth.at(r, c);
+            const double z = depthZ(frame, r, c);
             if (!(z > 0) || z > o.max_depth) continue;
             const Eigen::Vector3d p = K.unproject(c, r, z);
             const int64_t kx = int64_t(std::floor(p.x() / cube)), ky = int64_t(std::floor(p.y() / cube)),
                           kz = int64_t(std::floor(p.z() / cube));
             const uint64_t key = (uint64_t(kx & 0x1FFFFF) << 42) | (uint64_t(ky & 0x1FFFFF) << 21) | uint64_t(kz & 0x1FFFFF);
-            const uint16_t cls = labels ? frame.semantic.at(r, c) : 0;
+            const uint16_t cls = labels ? frame.semantic.row(r)[c] : 0;
             // One real surface point per cube (the one nearest its centre): a cube's average
             // leaves the surface where it bends (corners, edges) and biases the registration.
             const Eigen::Vector3d centre = (Eigen::Vector3d(double(kx), double(ky), double(kz)) +

@@ -140,6 +140,8 @@ class PanopticNDTMap : public mrpt::maps::CMetricMap
     mutable ObstacleCache obstacle_cache_;
     /// insertionOptions.refine_pose: created at the first frame; shared by copies.
     std::shared_ptr<refine::PoseRefiner> refiner_;
+    /// T_world_cam registered to the map when insertionOptions.refine_pose (both integrate paths).
+    Pose refinedPose(const FrameView& frame, const Pose& T_world_cam);
 
    public:
     /// The pose refiner (insertionOptions.refine_pose), nullptr before the first refined frame.

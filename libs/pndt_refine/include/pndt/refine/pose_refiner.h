@@ -131,6 +131,9 @@ class PoseRefiner
     /// The pose to integrate `frame` at: the frame registered to `map`, warm-started at
     /// correction() * T_world_cam_external; on refusal the fallback pose (see options).
     RefineResult refine(const PanopticMap& map, const PanopticFrame& frame, const Pose& T_world_cam_external);
+    /// The same over the caller's buffers (uint16 or float depth, z or ray length, strides;
+    /// nothing copied).
+    RefineResult refine(const PanopticMap& map, const FrameView& frame, const Pose& T_world_cam_external);
 
     /// The world-frame correction carried to the next frame (identity at the start).
     const Pose& correction() const { return correction_; }
