@@ -308,6 +308,7 @@ int runLive(int argc, char** argv)
             refinement->writeTum(out_dir + "/refined_poses.tum");
             fmt::print("pose refinement    : {}; poses in {}/refined_poses.tum\n",
                        refinement->refiner().stats().summary(), out_dir);
+            fmt::print("time offset        : {}\n", refinement->timeOffset().summary());
         }
         if (mrpt_capture && mrpt_capture->replaced())
             fmt::print("capture            : {} frames replaced by newer ones before the pipeline took them\n",

@@ -301,6 +301,7 @@ int main(int argc, char** argv)
             refinement->writeTum(out_dir + "/refined_poses.tum");
             fmt::print("pose refinement    : {}; poses in {}/refined_poses.tum\n", refinement->refiner().stats().summary(),
                        out_dir);
+            fmt::print("time offset        : {}\n", refinement->timeOffset().summary());
         }
 
         // ---- what is in the final map

@@ -15,9 +15,11 @@
 #include <pndt/data/pose_noise.h>
 #include <pndt/data/sequence_generator.h>
 #include <pndt/eval/map_eval.h>
+#include <pndt/io/pose_interpolator.h>
 #include <pndt/io/sequence.h>
 #include <pndt/panoptic_map.h>
 #include <pndt/refine/pose_refiner.h>
+#include <pndt/refine/time_offset.h>
 
 #include <chrono>
 #include <cstdlib>
@@ -54,6 +56,8 @@ struct Variant
     std::vector<Pose> used;      ///< where the frames were integrated
     std::unique_ptr<PanopticMap> map;
     std::unique_ptr<refine::PoseRefiner> refiner;
+    refine::TimeOffsetEstimator time_offset;
+    const std::vector<double>* stamps = nullptr;
     double seconds_refine = 0, seconds_max = 0;
     const std::vector<Pose>* truth = nullptr;
 };
@@ -63,7 +67,7 @@ struct Row
     std::string run, variant;
     refine::TrajectoryError te;
     double miou3 = -1, pq3 = -1, pq2 = -1, ms = 0, ms_max = 0;
-    std::string refine_summary;
+    std::string refine_summary, time_offset;
 };
 
 void printRows(const std::vector<Row>& rows, bool quality)
@@ -80,6 +84,26 @@ void printRows(const std::vector<Row>& rows, bool quality)
                    r.ms > 0 ? fmt::format("{:.1f} ({:.0f})", r.ms, r.ms_max) : std::string("-"),
                    r.refine_summary.empty() ? "-" : r.refine_summary);
     }
+    fmt::print("\ncamera / localiser time offset estimated from the refined poses:\n");
+    for (const Row& r : rows)
+        if (!r.time_offset.empty()) fmt::print("- {} {}: {}\n", r.run, r.variant, r.time_offset);
+}
+
+/// What a localiser late by `lag` seconds reports at each frame stamp: the trajectory at
+/// stamp - lag (interpolated between frames; held at the first pose before it).
+std::vector<Pose> lagging(const std::vector<Pose>& poses, const std::vector<double>& stamps, double lag)
+{
+    if (lag == 0) return poses;
+    std::vector<Pose> out(poses.size());
+    for (size_t i = 0; i < poses.size(); ++i)
+    {
+        const double s = stamps[i] - lag;
+        size_t j = size_t(std::upper_bound(stamps.begin(), stamps.end(), s) - stamps.begin());
+        if (j == 0) out[i] = poses.front();
+        else if (j >= poses.size()) out[i] = poses.back();
+        else out[i] = io::interpolatePose(poses[j - 1], poses[j], (s - stamps[j - 1]) / (stamps[j] - stamps[j - 1]));
+    }
+    return out;
 }
 
 void integrateVariant(Variant& v, const PanopticFrame& f, size_t i)
@@ -91,6 +115,7 @@ void integrateVariant(Variant& v, const PanopticFrame& f, size_t i)
         T = r.pose;
         v.seconds_refine += r.seconds;
         v.seconds_max = std::max(v.seconds_max, r.seconds);
+        v.time_offset.add((*v.stamps)[i], v.reported[i], r.pose, r.accepted());
         if (std::getenv("PNDT_REFINE_TRACE") && v.truth)
         {
             const Pose e0 = (*v.truth)[i].inverse() * r.warm_start, e1 = (*v.truth)[i].inverse() * r.pose;
@@ -117,6 +142,8 @@ int main(int argc, char** argv)
     ro.enabled = true;
     std::string loss = "cauchy";
     bool no_quality = false;
+    double time_offset = 0;
+    const std::vector<double>* stamps_now = nullptr;  // the frame stamps of the sequence being run
     app.add_option("--scenes", scenes, "generated scenes (report on held_*, tune on bedroom / dining)")
         ->capture_default_str();
     app.add_option("--seeds", seeds, "recording seeds (also the pose-noise seeds)")->capture_default_str();
@@ -128,6 +155,9 @@ int main(int argc, char** argv)
     app.add_option("--recording", recording, "a Redwood folder with trajectory.log instead of generated scenes");
     app.add_option("--max-frames", max_frames, "recording: first n frames only (0 = all)");
     app.add_flag("--no-quality", no_quality, "skip the map evaluation");
+    app.add_option("--time-offset", time_offset,
+                   "the localiser is late by this many seconds: each frame gets the (noisy) pose of stamp - S")
+        ->capture_default_str();
     app.add_option("--loss", loss, "cauchy, huber or none")->capture_default_str();
     app.add_option("--loss-scale", ro.loss_scale, "robust loss scale, sigmas")->capture_default_str();
     app.add_option("--min-sigma", ro.min_sigma_ratio, "coarse covariance floor, fraction of a voxel")->capture_default_str();
@@ -167,7 +197,7 @@ int main(int argc, char** argv)
                     data::PoseNoiseOptions pn;
                     pn.strength = s;
                     pn.seed = seed;
-                    v.reported = data::perturbPoses(truth, pn);
+                    v.reported = lagging(data::perturbPoses(truth, pn), *stamps_now, time_offset);
                     vs.push_back(std::move(v));
                 }
             for (Variant& v : vs)
@@ -175,6 +205,7 @@ int main(int argc, char** argv)
                 v.map = std::make_unique<PanopticMap>(mo);
                 if (v.refine) v.refiner = std::make_unique<refine::PoseRefiner>(ro);
                 v.truth = &truth;
+                v.stamps = stamps_now;
             }
             return vs;
         };
@@ -190,6 +221,7 @@ int main(int argc, char** argv)
                     r.ms = 1000 * v.seconds_refine / double(v.used.size());
                     r.ms_max = 1000 * v.seconds_max;
                     r.refine_summary = v.refiner->stats().summary();
+                    r.time_offset = v.time_offset.estimate().summary();
                 }
                 rows.push_back(r);
             }
@@ -206,6 +238,9 @@ int main(int argc, char** argv)
                 if (!seq.frames[i].T_world_cam) throw InputError("frame without a pose in " + recording);
                 truth.push_back(*seq.frames[i].T_world_cam);
             }
+            std::vector<double> stamps(n);
+            for (size_t i = 0; i < n; ++i) stamps[i] = seq.frames[i].t;
+            stamps_now = &stamps;
             for (uint64_t seed : parseList<uint64_t>(seeds))
             {
                 std::vector<Variant> vs = makeVariants(truth, seed, false);
@@ -235,6 +270,9 @@ int main(int argc, char** argv)
                 go.depth_noise = depth_noise;
                 const data::SequenceGenerator gen(go);
                 const std::vector<Pose>& truth = gen.truePoses();
+                std::vector<double> stamps(truth.size());
+                for (size_t i = 0; i < stamps.size(); ++i) stamps[i] = go.start_time + double(i) * go.frame_period;
+                stamps_now = &stamps;
                 std::vector<Variant> vs = makeVariants(truth, seed, true);
                 data::GtCloudBuilder cloud(0.01, gen.camera().max_range);
                 struct View

@@ -84,6 +84,7 @@ Pose FramePoseRefinement::refine(const PanopticMap* map, const PanopticFrame& fr
     static const PanopticMap kEmpty;
     const refine::RefineResult r = refiner_.refine(map ? *map : kEmpty, frame, T);
     poses_.emplace_back(t, r.pose);
+    time_offset_.add(t, T, r.pose, r.accepted());
     return r.pose;
 }
 
@@ -92,6 +93,7 @@ void FramePoseRefinement::writeTum(const std::string& path) const
     io::writeFileAtomically(path, [&](const std::string& tmp) {
         std::ofstream f(tmp);
         f << "# refined optical camera poses (pndt-map --refine): timestamp tx ty tz qx qy qz qw\n";
+        f << "# camera / localiser time offset: " << timeOffset().summary() << "\n";
         for (const auto& [t, T] : poses_)
         {
             const Eigen::Quaterniond q(T.rotation());

@@ -5,6 +5,7 @@
 
 #include <pndt/panoptic_map.h>
 #include <pndt/refine/pose_refiner.h>
+#include <pndt/refine/time_offset.h>
 
 #include <string>
 #include <vector>
@@ -27,12 +28,16 @@ class FramePoseRefinement
     /// counted as too few points).
     Pose refine(const PanopticMap* map, const PanopticFrame& frame, const Pose& T_world_cam_external, double t);
     const refine::PoseRefiner& refiner() const { return refiner_; }
-    /// t, pose (TUM: timestamp tx ty tz qx qy qz qw), one line per frame.
+    /// The camera / localiser time offset seen so far (refined vs external poses).
+    refine::TimeOffsetEstimate timeOffset() const { return time_offset_.estimate(); }
+    /// t, pose (TUM: timestamp tx ty tz qx qy qz qw), one line per frame; the time offset
+    /// estimate in a comment line at the top.
     void writeTum(const std::string& path) const;
     size_t size() const { return poses_.size(); }
 
    private:
     refine::PoseRefiner refiner_;
+    refine::TimeOffsetEstimator time_offset_;
     std::vector<std::pair<double, Pose>> poses_;
 };
 
