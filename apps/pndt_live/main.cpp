@@ -241,7 +241,7 @@ int runLive(int argc, char** argv)
             grabber = oni_grabber.get();
             camera_text = oni->describe() + (stamps == "device" ? "" : "; frames stamped with the host clock at grab");
         }
-        std::optional<FramePoseRefinement> refinement = refine_cli.make();  // as pndt-map --refine (issue #22)
+        std::optional<FramePoseRefinement> refinement = refine_cli.make(settings);  // as pndt-map --refine (issue #22)
 
         std::filesystem::create_directories(out_dir);
         ShortTermMaps maps(factory, settings.short_term);

@@ -177,7 +177,7 @@ int main(int argc, char** argv)
 
         // ---- replay
         ShortTermMaps maps(factory, settings.short_term);
-        std::optional<FramePoseRefinement> refinement = refine_cli.make();  // issue #22: against the localiser's errors
+        std::optional<FramePoseRefinement> refinement = refine_cli.make(settings);  // issue #22: against the localiser's errors
         ObservationPairer pairer;
         pairer.options = prototype->insertionOptions;
         std::optional<ReadAheadStream> stream;  // decoding overlaps with mapping

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <mrpt/core/bits_math.h>
+#include <pndt/app/pose_refinement.h>
 #include <pndt/mrpt/config_section.h>
 
 #include <sstream>
@@ -31,6 +32,9 @@ MapperSettings MapperSettings::load(const mrpt::config::CConfigFileBase& cfg)
     c.read("maps_rawlog", s.short_term.write_rawlog);
     c.read("maps_rawlog_label", s.short_term.rawlog_label);
     c.read("maps_rawlog_inputs", s.maps_rawlog_inputs);
+    std::string refine_options;
+    c.read("refine", s.refine);
+    c.read("refine_options", refine_options);
     c.rejectUnknownKeys();
     const auto bad = [](const std::string& key, const std::string& v, const char* what) {
         return std::invalid_argument(fmt::format("config [pndt-map] key '{}': '{}' {}", key, v, what));
@@ -45,6 +49,22 @@ MapperSettings MapperSettings::load(const mrpt::config::CConfigFileBase& cfg)
     if (s.pose_source != "rawlog" && s.pose_source != "file") throw bad("pose_source", s.pose_source, "is not rawlog or file");
     if (s.pose_source == "file" && s.pose_file.empty()) throw bad("pose_file", "", "is required with pose_source=file");
     if (!(s.pose_max_gap > 0)) throw bad("pose_max_gap", std::to_string(s.pose_max_gap), "must be positive");
+    {
+        std::istringstream in(refine_options);
+        refine::RefineOptions check;
+        for (std::string kv; in >> kv;)
+        {
+            try
+            {
+                setRefineOption(check, kv);
+            }
+            catch (const std::invalid_argument& e)
+            {
+                throw bad("refine_options", kv, e.what());
+            }
+            s.refine_options.push_back(kv);
+        }
+    }
     if (!camera.empty())
     {
         std::istringstream in(camera);

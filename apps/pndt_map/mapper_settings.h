@@ -7,6 +7,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace pndt::app
 {
@@ -22,6 +23,8 @@ struct MapperSettings
     std::optional<mrpt::poses::CPose3D> camera_pose;  ///< robot -> camera; empty = scans' sensorPose
     std::string rgbd_label;              ///< only this range-scan sensor; empty = all
     bool maps_rawlog_inputs = false;     ///< interleave the input observations into maps.rawlog
+    bool refine = false;                 ///< pose refinement (as --refine)
+    std::vector<std::string> refine_options;  ///< key=value items (as --refine-option; refine_options = 'k=v k=v')
 
     /// Reads [pndt-map]; unknown keys and bad values are errors naming them.
     static MapperSettings load(const mrpt::config::CConfigFileBase& cfg);

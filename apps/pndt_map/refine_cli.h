@@ -5,6 +5,8 @@
 #include <CLI/CLI.hpp>
 #include <pndt/app/pose_refinement.h>
 
+#include "mapper_settings.h"
+
 #include <optional>
 #include <string>
 #include <vector>
@@ -23,13 +25,16 @@ struct RefineCli
                      "writes refined_poses.tum");
         app.add_option("--refine-option", options, "refinement option key=value (repeatable; implies --refine)");
     }
-    /// The refinement asked for, if any (throws std::invalid_argument on a bad option).
-    std::optional<FramePoseRefinement> make() const
+    /// The refinement asked for on the command line or in [pndt-map] (refine, refine_options;
+    /// command-line options are applied after the file's), if any. Throws
+    /// std::invalid_argument on a bad option.
+    std::optional<FramePoseRefinement> make(const MapperSettings& settings) const
     {
         std::optional<FramePoseRefinement> r;
-        if (!enabled && options.empty()) return r;
+        if (!enabled && options.empty() && !settings.refine && settings.refine_options.empty()) return r;
         refine::RefineOptions ro;
         ro.enabled = true;
+        for (const auto& kv : settings.refine_options) setRefineOption(ro, kv);
         for (const auto& kv : options) setRefineOption(ro, kv);
         r.emplace(ro);
         return r;

@@ -284,6 +284,30 @@ TEST(PndtMapCli, UnknownConfigKeysAndSectionsAreErrorsNamingThem)
     EXPECT_NE(r.out.find("'period'"), std::string::npos) << r.out;
 }
 
+TEST(PndtMapCli, RefinementFromTheConfigAsFromTheCommandLine)
+{
+    // [pndt-map] refine / refine_options give what --refine / --refine-option give, byte for byte.
+    auto slurp = [](const fs::path& p) {
+        std::ifstream f(p);
+        return std::string(std::istreambuf_iterator<char>(f), {});
+    };
+    const fs::path cli = tempDir("refine_cli"), ini = tempDir("refine_ini");
+    const std::string input = roomRawlog().string() + " --period 0 --max-frames 12 -o ";
+    RunResult r = run(mapExe() + input + cli.string() + " --refine-option max_points=600 --refine-option thing_weight=0.3");
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("time offset        : "), std::string::npos) << r.out;
+    r = run(mapExe() + input + ini.string() + " -s pndt-map.refine=true -s 'pndt-map.refine_options=max_points=600 thing_weight=0.3'");
+    ASSERT_EQ(r.code, 0) << r.out;
+    const std::string poses = slurp(cli / "refined_poses.tum");
+    EXPECT_EQ(std::count(poses.begin(), poses.end(), '\n'), 2 + 12) << poses;  // two comment lines, a pose per frame
+    EXPECT_NE(poses.find("# camera / localiser time offset: not estimated"), std::string::npos) << poses;  // 12 frames
+    EXPECT_EQ(poses, slurp(ini / "refined_poses.tum"));
+
+    r = run(mapExe() + input + ini.string() + " -s 'pndt-map.refine_options=max_points=600 maxpoints=3'");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.out.find("key 'refine_options': 'maxpoints=3'"), std::string::npos) << r.out;
+}
+
 TEST(PndtMapCli, PaperPresetBuildsAMapWithThePapersRulesAndLayersWithHypersim)
 {
     const fs::path out = tempDir("paper");
