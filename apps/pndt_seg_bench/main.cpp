@@ -264,7 +264,7 @@ void benchFloor(const BenchTensors& b, int frames)
                sink == 1.2345f ? " " : "");
 }
 
-void benchPostprocess(const BenchTensors& b, int frames, float tolerance)
+void benchPostprocess(const BenchTensors& b, int frames, float tolerance, PostprocessOptions::Kernel kernel)
 {
     const ClassSet classes = ClassSet::nyuv2_40();
     std::vector<uint16_t> map(static_cast<size_t>(b.C));
@@ -283,6 +283,7 @@ void benchPostprocess(const BenchTensors& b, int frames, float tolerance)
         PostprocessOptions o;
         o.semantic_is_logit = v.logits;
         o.score_tolerance = tolerance;
+        o.kernel = kernel;
         PanopticPostprocessor post(classes, map, o);
         PanopticFrame out;
         const PanopticTensors t = b.view(v.instances);
@@ -374,16 +375,23 @@ int main(int argc, char** argv)
     app.add_option("--spread", scene.spread, "scene input: spread of the other classes below the runner-up")
         ->capture_default_str();
     app.add_option("--uncertain", scene.uncertain, "scene input: fraction of uncertain cells")->capture_default_str();
+    std::string kernel_name = "best";
+    app.add_option("--kernel", kernel_name, "pixel-pass kernel: best (the CPU's widest), avx2 or scalar")
+        ->check(CLI::IsMember({"best", "avx2", "scalar"}))
+        ->capture_default_str();
     app.add_option("--score-tolerance", tolerance, "bound on S^L's relative error from skipped classes (0 = none)")
         ->capture_default_str();
     app.add_option("--model", model, "also time this model description's whole front-end");
     app.add_option("--recording", recording, "Redwood / TUM folder whose frames the model sees");
     CLI11_PARSE(app, argc, argv);
+    const auto kernel = kernel_name == "avx2"     ? PostprocessOptions::Kernel::Avx2
+                        : kernel_name == "scalar" ? PostprocessOptions::Kernel::Scalar
+                                                  : PostprocessOptions::Kernel::Best;
     try
     {
         cv::setNumThreads(1);
-        if (input == "scene" || input == "both") benchPostprocess(sceneTensors(W, H, C, scene), frames, tolerance);
-        if (input == "noise" || input == "both") benchPostprocess(noiseTensors(W, H, C, centres, margin, noise), frames, tolerance);
+        if (input == "scene" || input == "both") benchPostprocess(sceneTensors(W, H, C, scene), frames, tolerance, kernel);
+        if (input == "noise" || input == "both") benchPostprocess(noiseTensors(W, H, C, centres, margin, noise), frames, tolerance, kernel);
         if (input != "scene" && input != "noise" && input != "both" && input != "none")
             throw InputError("--input must be scene, noise, both or none");
         if (!model.empty()) benchModel(model, recording, frames);

@@ -506,3 +506,78 @@ TEST(PanopticPostprocessFast, GroupingEqualsTheNearestCentreForEveryVote)
         }
     EXPECT_EQ(out.instance.at(5, 5), 0u) << "a NaN vote joins no instance";
 }
+
+TEST(PanopticPostprocessFast, EveryKernelGivesTheSameOutputs)
+{
+    // A network-like output (regions with clear winners, close rivals at their borders, thing
+    // regions with centre peaks and offsets towards them, noise), at a size of whole 64-pixel
+    // sub-blocks and at one with a ragged last block. The widest kernel (AVX-512 where the CPU
+    // has it) and the AVX2 one agree bit for bit; the scalar one in labels and instances, and in
+    // scores to the polynomial exp's rounding.
+    for (const auto& [W, H] : {std::pair{128, 96}, std::pair{100, 37}})
+    {
+        std::mt19937 rng(11);
+        std::normal_distribution<float> noise(0.f, 0.5f);
+        std::uniform_real_distribution<float> u(0.f, 1.f);
+        const int C = 41;
+        Tensors t(W, H, C);
+        const int R = 16;  // 16 x 16 pixel regions
+        std::vector<int> winner;
+        for (int r = 0; r < ((W + R - 1) / R) * ((H + R - 1) / R); ++r) winner.push_back(int(u(rng) * C) % C);
+        // Many centres and votes scattered around them: the nearest centre changes within a pixel
+        // or two at many votes, so a vote's position must be exact.
+        std::vector<std::pair<int, int>> peaks;
+        for (int k = 0; k < 14; ++k) peaks.emplace_back(int(u(rng) * float(W - 1)), int(u(rng) * float(H - 1)));
+        std::uniform_real_distribution<float> scatter(-12.f, 12.f);
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x)
+            {
+                const int w = winner[size_t((y / R) * ((W + R - 1) / R) + x / R)];
+                for (int c = 0; c < C; ++c) t.logit(c, y, x) = -8.f + 3.f * noise(rng);
+                t.logit(w, y, x) = 6.f + noise(rng);
+                if (x % R == 0) t.logit((w + 1) % C, y, x) = 5.5f;  // a close rival at region borders
+                float best = 0;
+                for (const auto& [px, py] : peaks)
+                {
+                    const float d2 = float((x - px) * (x - px) + (y - py) * (y - py));
+                    best = std::max(best, std::exp(-d2 / 50.f));
+                }
+                t.heat(y, x) = best;
+                const auto& [px, py] = *std::min_element(peaks.begin(), peaks.end(), [&](auto a, auto b) {
+                    return (x - a.first) * (x - a.first) + (y - a.second) * (y - a.second) <
+                           (x - b.first) * (x - b.first) + (y - b.second) * (y - b.second);
+                });
+                t.dx(y, x) = float(px - x) + scatter(rng);
+                t.dy(y, x) = float(py - y) + scatter(rng);
+            }
+        std::vector<uint16_t> map(C);
+        for (int c = 0; c < C; ++c) map[size_t(c)] = uint16_t(c);  // NYUv2-40 + void: things and stuff
+        auto runWith = [&](PostprocessOptions::Kernel k) {
+            PostprocessOptions o;
+            o.nms_kernel = 5;
+            o.kernel = k;
+            PanopticPostprocessor p(nyu(), map, o);
+            PanopticFrame out;
+            p.run(t.view(), out);
+            p.run(t.view(), out);  // a second frame into the same images
+            return out;
+        };
+        const PanopticFrame best = runWith(PostprocessOptions::Kernel::Best);
+        const PanopticFrame avx2 = runWith(PostprocessOptions::Kernel::Avx2);
+        const PanopticFrame scalar = runWith(PostprocessOptions::Kernel::Scalar);
+        size_t thing_pixels = 0;
+        for (uint32_t z : best.instance.data) thing_pixels += z != 0;
+        EXPECT_GT(thing_pixels, size_t(W * H / 20)) << W << "x" << H;  // the grouping was exercised
+        EXPECT_EQ(best.semantic.data, avx2.semantic.data);
+        EXPECT_EQ(best.instance.data, avx2.instance.data);
+        EXPECT_EQ(best.semantic_score.data, avx2.semantic_score.data);
+        EXPECT_EQ(best.panoptic_score.data, avx2.panoptic_score.data);
+        EXPECT_EQ(best.semantic.data, scalar.semantic.data);
+        EXPECT_EQ(best.instance.data, scalar.instance.data);
+        for (size_t i = 0; i < best.semantic_score.data.size(); ++i)
+        {
+            ASSERT_NEAR(best.semantic_score.data[i], scalar.semantic_score.data[i], 3e-6f * best.semantic_score.data[i]);
+            ASSERT_NEAR(best.panoptic_score.data[i], scalar.panoptic_score.data[i], 3e-6f * best.semantic_score.data[i]);
+        }
+    }
+}

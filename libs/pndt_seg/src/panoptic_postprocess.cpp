@@ -4,6 +4,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <array>
 #include <ctime>
 #include <cmath>
 #include <limits>
@@ -268,6 +269,204 @@ bool cpuHasAvx2()
     static const bool yes = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
     return yes;
 }
+
+#define PNDT_AVX512 __attribute__((target("avx512f,avx2,fma")))
+// GCC 12 warns of the undefined pass-through inside its own _mm512_max_ps (a false report).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+/// exp8 in 16 lanes (the same operations).
+PNDT_AVX512 inline __m512 exp16(__m512 x)
+{
+    x = _mm512_max_ps(x, _mm512_set1_ps(-87.f));
+    const __m512 t = _mm512_mul_ps(x, _mm512_set1_ps(kExpLog2e));
+    const __m512 r = _mm512_add_ps(t, _mm512_set1_ps(kExpRound));
+    const __m512 f = _mm512_sub_ps(t, _mm512_sub_ps(r, _mm512_set1_ps(kExpRound)));
+    __m512 p = _mm512_fmadd_ps(f, _mm512_set1_ps(kExpC5), _mm512_set1_ps(kExpC4));
+    p = _mm512_fmadd_ps(f, p, _mm512_set1_ps(kExpC3));
+    p = _mm512_fmadd_ps(f, p, _mm512_set1_ps(kExpC2));
+    p = _mm512_fmadd_ps(f, p, _mm512_set1_ps(kExpC1));
+    p = _mm512_fmadd_ps(f, p, _mm512_set1_ps(1.f));
+    const __m512i bits = _mm512_slli_epi32(_mm512_add_epi32(_mm512_castps_si512(r), _mm512_set1_epi32(127)), 23);
+    return _mm512_mul_ps(p, _mm512_castsi512_ps(bits));
+}
+
+/// blockMaxAvx2 and blockSoftmaxAvx2 of one block (n a multiple of kSubBlock) fused per
+/// 64-pixel sub-block held in registers (4 × 16 lanes): the max pass reads the sub-block's
+/// slices of all channels from L2 (prefetched a block ahead, as blockMaxAvx2 does) and the
+/// softmax pass reads them again from L1 (41 × 256 B), with no per-channel scratch loads and
+/// stores. The same operations in the same order per pixel: bit-identical outputs.
+/// Also writes each pixel's class (`class_of` its channel's, 256 entries) and, with `softmax`,
+/// S^L = 1 / Σ (else only the max pass). Returns false at the first sub-block with a non-finite
+/// logit (the caller redoes the block on the exact path; `skipped_last` is then as on entry).
+PNDT_AVX512 bool blockPixelsAvx512(const float* semantic, size_t N, int C, size_t b0, size_t n, bool softmax,
+                                   float skip, int& skipped_last, float* __restrict mx, int32_t* __restrict am,
+                                   const int32_t* class_of, uint16_t* __restrict sem, float* __restrict score)
+{
+    const int skipped_on_entry = skipped_last;
+    const float inf = std::numeric_limits<float>::infinity();
+    for (size_t s0 = 0; s0 < n; s0 += kSubBlock)
+    {
+        const float* base = semantic + b0 + s0;
+        __m512 m0 = _mm512_loadu_ps(base), m1 = _mm512_loadu_ps(base + 16), m2 = _mm512_loadu_ps(base + 32),
+               m3 = _mm512_loadu_ps(base + 48);
+        __m512i a0 = _mm512_setzero_si512(), a1 = a0, a2 = a0, a3 = a0;
+        __m512 acc = _mm512_add_ps(_mm512_add_ps(m0, m1), _mm512_add_ps(m2, m3));
+        for (int q = 0; q < 64; q += 16) prefetchNextBlock(base + q);
+        for (int c = 1; c < C; ++c)
+        {
+            const float* p = base + size_t(c) * N;
+            for (int q = 0; q < 64; q += 16) prefetchNextBlock(p + q);
+            const __m512i id = _mm512_set1_epi32(c);
+            const __m512 v0 = _mm512_loadu_ps(p), v1 = _mm512_loadu_ps(p + 16), v2 = _mm512_loadu_ps(p + 32),
+                         v3 = _mm512_loadu_ps(p + 48);
+            a0 = _mm512_mask_mov_epi32(a0, _mm512_cmp_ps_mask(v0, m0, _CMP_GT_OQ), id);
+            a1 = _mm512_mask_mov_epi32(a1, _mm512_cmp_ps_mask(v1, m1, _CMP_GT_OQ), id);
+            a2 = _mm512_mask_mov_epi32(a2, _mm512_cmp_ps_mask(v2, m2, _CMP_GT_OQ), id);
+            a3 = _mm512_mask_mov_epi32(a3, _mm512_cmp_ps_mask(v3, m3, _CMP_GT_OQ), id);
+            m0 = _mm512_max_ps(v0, m0);
+            m1 = _mm512_max_ps(v1, m1);
+            m2 = _mm512_max_ps(v2, m2);
+            m3 = _mm512_max_ps(v3, m3);
+            acc = _mm512_add_ps(acc, _mm512_add_ps(_mm512_add_ps(v0, v1), _mm512_add_ps(v2, v3)));
+        }
+        _mm512_storeu_ps(mx + s0, m0);
+        _mm512_storeu_ps(mx + s0 + 16, m1);
+        _mm512_storeu_ps(mx + s0 + 32, m2);
+        _mm512_storeu_ps(mx + s0 + 48, m3);
+        _mm512_storeu_si512(am + s0, a0);
+        _mm512_storeu_si512(am + s0 + 16, a1);
+        _mm512_storeu_si512(am + s0 + 32, a2);
+        _mm512_storeu_si512(am + s0 + 48, a3);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(sem + s0), _mm512_cvtepi32_epi16(_mm512_i32gather_epi32(a0, class_of, 4)));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(sem + s0 + 16),
+                            _mm512_cvtepi32_epi16(_mm512_i32gather_epi32(a1, class_of, 4)));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(sem + s0 + 32),
+                            _mm512_cvtepi32_epi16(_mm512_i32gather_epi32(a2, class_of, 4)));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(sem + s0 + 48),
+                            _mm512_cvtepi32_epi16(_mm512_i32gather_epi32(a3, class_of, 4)));
+        // Finite iff acc − acc == 0 in every lane (inf − inf and NaN give NaN).
+        const __m512 z = _mm512_sub_ps(acc, acc);
+        if (_mm512_cmp_ps_mask(z, z, _CMP_UNORD_Q) != 0)
+        {
+            skipped_last = skipped_on_entry;
+            return false;
+        }
+        if (!softmax) continue;
+        const float sub_skip = skipped_last > 0 || (s0 / kSubBlock) % 4 == 0 ? skip : inf;
+        __m512 e0 = _mm512_setzero_ps(), e1 = e0, e2 = e0, e3 = e0;
+        int skipped = 0;
+        for (int c = 0; c < C; ++c)
+        {
+            const float* p = base + size_t(c) * N;
+            const __m512 d0 = _mm512_sub_ps(_mm512_loadu_ps(p), m0), d1 = _mm512_sub_ps(_mm512_loadu_ps(p + 16), m1),
+                         d2 = _mm512_sub_ps(_mm512_loadu_ps(p + 32), m2), d3 = _mm512_sub_ps(_mm512_loadu_ps(p + 48), m3);
+            // Every lane below −skip (a finite sub-block: no NaN to mislead the compare).
+            if (sub_skip < inf && _mm512_cmp_ps_mask(_mm512_max_ps(_mm512_max_ps(d0, d1), _mm512_max_ps(d2, d3)),
+                                                     _mm512_set1_ps(-sub_skip), _CMP_GE_OQ) == 0)
+            {
+                ++skipped;
+                continue;
+            }
+            e0 = _mm512_add_ps(e0, exp16(d0));
+            e1 = _mm512_add_ps(e1, exp16(d1));
+            e2 = _mm512_add_ps(e2, exp16(d2));
+            e3 = _mm512_add_ps(e3, exp16(d3));
+        }
+        const __m512 one = _mm512_set1_ps(1.f);
+        _mm512_storeu_ps(score + s0, _mm512_div_ps(one, e0));
+        _mm512_storeu_ps(score + s0 + 16, _mm512_div_ps(one, e1));
+        _mm512_storeu_ps(score + s0 + 32, _mm512_div_ps(one, e2));
+        _mm512_storeu_ps(score + s0 + 48, _mm512_div_ps(one, e3));
+        skipped_last = skipped;
+    }
+    return true;
+}
+
+/// What the grouping of a block reads and writes (see groupBlock).
+struct GroupingView
+{
+    const int32_t* am;          ///< channel per pixel of the block (index − b0)
+    size_t b0;                  ///< the block's first pixel
+    const int32_t* is_thing;    ///< 0/1 per channel, 256 entries
+    bool any_centre;
+    const float *dx, *dy;       ///< offsets, output pixels × offset_scale
+    float scale, grid_x0, grid_y0, inv_cell, grid_w, grid_h;
+    int grid_cols;
+    const uint32_t* grid_single;  ///< per cell: its only candidate + 1, or kSeveral
+    const uint16_t* sem;
+    const float* score;
+    const float* centre_score;  ///< S^Z per instance id (0: none)
+    uint32_t* inst;
+    float* pan;
+};
+
+/// groupBlock's pixel loop, 16 pixels a step from image pixel i at (x, y) while a step stays
+/// in one row: thing pixels vote in a gather of their grid cells; cells with several candidate
+/// centres (and votes outside the grid) ask `search(vx, vy)`; votes are counted with `vote(z,
+/// class)` lane by lane. The same operations as the scalar loop (the offset product is kept
+/// apart from the sum: no fused multiply-add). Returns the pixels done (a multiple of 16).
+template <class Search, class Vote>
+PNDT_AVX512 size_t groupRunAvx512(const GroupingView& g, size_t i, size_t n, size_t x, size_t W, uint32_t y,
+                                  Search&& search, Vote&& vote)
+{
+    const __m512 iota = _mm512_setr_ps(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    const __m512i several = _mm512_set1_epi32(int32_t(kSeveral));
+    size_t done = 0;
+    for (; i + 16 <= n && x + 16 <= W; i += 16, x += 16, done += 16)
+    {
+        __mmask16 things = 0;
+        if (g.any_centre)
+        {
+            const __m512i t = _mm512_i32gather_epi32(_mm512_loadu_si512(g.am + (i - g.b0)), g.is_thing, 4);
+            things = _mm512_test_epi32_mask(t, t);
+        }
+        __m512i z = _mm512_setzero_si512();
+        if (things)
+        {
+            __m512 sdx = _mm512_mul_ps(_mm512_set1_ps(g.scale), _mm512_loadu_ps(g.dx + i));
+            __m512 sdy = _mm512_mul_ps(_mm512_set1_ps(g.scale), _mm512_loadu_ps(g.dy + i));
+            asm("" : "+v"(sdx), "+v"(sdy));  // as the scalar code: round the product, then add
+            const __m512 vx = _mm512_add_ps(_mm512_add_ps(_mm512_set1_ps(float(x)), iota), sdx);
+            const __m512 vy = _mm512_add_ps(_mm512_set1_ps(float(y)), sdy);
+            const __m512 gx = _mm512_mul_ps(_mm512_sub_ps(vx, _mm512_set1_ps(g.grid_x0)), _mm512_set1_ps(g.inv_cell));
+            const __m512 gy = _mm512_mul_ps(_mm512_sub_ps(vy, _mm512_set1_ps(g.grid_y0)), _mm512_set1_ps(g.inv_cell));
+            const __m512 zero = _mm512_setzero_ps();
+            const __mmask16 in = _mm512_cmp_ps_mask(gx, zero, _CMP_GE_OQ) &
+                                 _mm512_cmp_ps_mask(gx, _mm512_set1_ps(g.grid_w), _CMP_LT_OQ) &
+                                 _mm512_cmp_ps_mask(gy, zero, _CMP_GE_OQ) &
+                                 _mm512_cmp_ps_mask(gy, _mm512_set1_ps(g.grid_h), _CMP_LT_OQ) & things;
+            const __m512i cell = _mm512_add_epi32(_mm512_mullo_epi32(_mm512_cvttps_epi32(gy), _mm512_set1_epi32(g.grid_cols)),
+                                                  _mm512_cvttps_epi32(gx));
+            z = _mm512_mask_i32gather_epi32(several, in, cell, g.grid_single, 4);
+            z = _mm512_maskz_mov_epi32(things, z);
+            const __mmask16 ask = _mm512_cmpeq_epi32_mask(z, several) & things;
+            alignas(64) uint32_t zl[16];
+            _mm512_store_si512(zl, z);
+            if (ask)
+            {
+                alignas(64) float vxl[16], vyl[16];
+                _mm512_store_ps(vxl, vx);
+                _mm512_store_ps(vyl, vy);
+                for (int l = 0; l < 16; ++l)
+                    if (ask >> l & 1) zl[l] = search(vxl[l], vyl[l]);
+                z = _mm512_load_si512(zl);
+            }
+            for (int l = 0; l < 16; ++l)
+                if (things >> l & 1) vote(zl[l], g.sem[i + size_t(l)]);
+        }
+        _mm512_storeu_si512(g.inst + i, z);
+        _mm512_storeu_ps(g.pan + i, _mm512_mul_ps(_mm512_loadu_ps(g.score + i), _mm512_i32gather_ps(z, g.centre_score, 4)));
+    }
+    return done;
+}
+
+bool cpuHasAvx512()
+{
+    static const bool yes = __builtin_cpu_supports("avx512f") && cpuHasAvx2();
+    return yes;
+}
+#pragma GCC diagnostic pop
 #endif
 
 }  // namespace
@@ -320,19 +519,31 @@ void PanopticPostprocessor::run(const PanopticTensors& t, PanopticFrame& out)
     float* mx = scratch(max_logit_, kBlock, t.semantic, 1024);
     float* sum = scratch(exp_sum_, kBlock, t.semantic, 2048);
     int32_t* am = scratch(argmax_, kBlock, t.semantic, 3072);
+    std::array<int32_t, 256> class_of{};  // channel -> class id, for the vector kernel's gather
+    for (size_t c = 0; c < channel_to_class_.size(); ++c) class_of[c] = channel_to_class_[c];
     for (size_t b = 0; b < blocks; ++b)
     {
         const size_t b0 = b * kBlock, n = std::min(kBlock, N - b0);
         float* score = out.semantic_score.data.data() + b0;
+        uint16_t* sem = out.semantic.data.data() + b0;
         bool finite;
+        bool fused = false;  // max and softmax passes done together
 #if PNDT_HAVE_AVX2_KERNEL
-        const bool avx2 = n % 8 == 0 && cpuHasAvx2();
-        if (avx2)
+        using Kernel = PostprocessOptions::Kernel;
+        const bool avx512 = options_.kernel == Kernel::Best && n % kSubBlock == 0 && cpuHasAvx512();
+        const bool avx2 = options_.kernel != Kernel::Scalar && n % 8 == 0 && cpuHasAvx2();
+        if (avx512)
+        {
+            finite = blockPixelsAvx512(t.semantic, N, C, b0, n, logits, skip, skipped_last, mx, am, class_of.data(),
+                                       sem, score);
+            fused = true;
+        }
+        else if (avx2)
             finite = blockMaxAvx2(t.semantic, N, C, b0, n, mx, am);
         else
 #endif
             finite = blockMaxScalar(t.semantic, N, C, b0, n, mx, am);
-        if (finite && logits)
+        if (finite && logits && !fused)
         {
             for (size_t s0 = 0; s0 < n; s0 += kSubBlock)
             {
@@ -361,8 +572,8 @@ void PanopticPostprocessor::run(const PanopticTensors& t, PanopticFrame& out)
         }
         if (!logits)
             for (size_t i = 0; i < n; ++i) score[i] = std::clamp(mx[i], 0.f, 1.f);
-        uint16_t* sem = out.semantic.data.data() + b0;
-        for (size_t i = 0; i < n; ++i) sem[i] = channel_to_class_[size_t(am[i])];
+        if (!(fused && finite))
+            for (size_t i = 0; i < n; ++i) sem[i] = channel_to_class_[size_t(am[i])];
         if (instances) groupBlock(t, b0, n, am, out);
     }
     timing_.pixels_ms = threadMs() - t0;
@@ -563,11 +774,50 @@ void PanopticPostprocessor::groupBlock(const PanopticTensors& t, size_t b0, size
     uint32_t any = 0;
     // Each thing pixel votes for the point pixel + offset; it joins the centre nearest to it:
     // the grid cell's only candidate, else a search. (Stuff pixels branch away: on a network's
-    // output they come in long runs, and they need neither their offsets nor a vote.)
+    // output they come in long runs, and they need neither their offsets nor a vote; with
+    // AVX-512 such runs go 16 pixels a step.)
     size_t x = b0 % W, y = b0 / W;  // walked, not divided per pixel
+#if defined(__x86_64__) && defined(__GNUC__)
+    // Only thing pixels read their offsets, too sparsely for the hardware prefetchers: the next
+    // block's offset lines are asked into L2 now, while this block and the next max pass run.
+    if (any_centre)
+        for (size_t k = b0 + kBlock; k < std::min(b0 + 2 * kBlock, N); k += 16)
+        {
+            _mm_prefetch(reinterpret_cast<const char*>(dx + k), _MM_HINT_T1);
+            _mm_prefetch(reinterpret_cast<const char*>(dy + k), _MM_HINT_T1);
+        }
+#endif
+#if PNDT_HAVE_AVX2_KERNEL
+    const bool fast = options_.kernel == PostprocessOptions::Kernel::Best && W >= 16 && cpuHasAvx512();
+    std::array<int32_t, 256> is_thing{};
+    GroupingView view{};
+    if (fast)
+    {
+        for (size_t c = 0; c < channel_is_thing_.size(); ++c) is_thing[c] = channel_is_thing_[c];
+        view = {am, b0, is_thing.data(), any_centre, dx, dy, s, grid_x0_, grid_y0_, inv, gw, gh, grid_w_,
+                grid_single_.data(), sem, score, centre_score_.data(), inst, pan};
+    }
+    const auto search = [this](float vx, float vy) { return nearestCentre(vx, vy); };
+    const auto vote = [&](uint32_t z, uint16_t c) {
+        ++votes_[z * CL + c];
+        any |= z;
+    };
+#endif
     for (size_t i = 0; i < n; ++i)
     {
         const size_t j = b0 + i;
+#if PNDT_HAVE_AVX2_KERNEL
+        if (fast && j % 16 == 0)
+        {
+            const size_t done = groupRunAvx512(view, j, b0 + n, x, W, uint32_t(y), search, vote);
+            if (done)
+            {
+                i += done - 1;  // the loop's ++i
+                for (x += done; x >= W; x -= W) ++y;
+                continue;
+            }
+        }
+#endif
         uint32_t z = 0;
         if (any_centre && channel_is_thing_[size_t(am[i])])
         {
