@@ -189,7 +189,8 @@ int runLive(int argc, char** argv)
         const PoseFrame pf = !pose_frame.empty()         ? parsePoseFrame(pose_frame)
                              : lf == LineFormat::Tum     ? PoseFrame::Camera
                                                          : PoseFrame::Robot;
-        LivePoseBuffer poses("LIVE_POSE", clock_offset);
+        // --clock-offset, else [pndt-map] clock_offset (as pndt-map)
+        LivePoseBuffer poses("LIVE_POSE", app.count("--clock-offset") ? clock_offset : settings.clock_offset);
         std::vector<std::unique_ptr<PoseSource>> sources;
         if (pose_tcp >= 0)
         {

@@ -101,6 +101,10 @@ int main(int argc, char** argv)
     app.add_option("-s,--set", sets, "override: section.key=value (repeatable)");
     app.add_option("--poses", poses, "external pose file (sets pose_source=file)");
     app.add_option("--pose-format", pose_format, "tum, rtabmap0/1/2/4/10/11, kitti, redwood, nicr");
+    std::string clock_offset;
+    app.add_option("--clock-offset", clock_offset,
+                   "seconds added to pose stamps (localiser clock -> camera clock; config clock_offset; what "
+                   "--refine's time offset estimate suggests)");
     app.add_option("--period", period, "short-term map period (config period_unit; 0 = one map)");
     app.add_option("--voxel-size", voxel_size, "voxel size in metres");
     app.add_option("--max-frames", max_frames, "stop after this many mapped frames (0 = all)");
@@ -132,6 +136,7 @@ int main(int argc, char** argv)
         files.insert(files.end(), configs.begin(), configs.end());
         if (!poses.empty()) sets.insert(sets.begin(), {"pndt-map.pose_source=file", "pndt-map.pose_file=" + poses});
         if (!pose_format.empty()) sets.push_back("pndt-map.pose_format=" + pose_format);
+        if (!clock_offset.empty()) sets.push_back("pndt-map.clock_offset=" + clock_offset);
         if (period >= 0) sets.push_back(fmt::format("pndt-map.period={}", period));
         if (no_maps_rawlog) sets.push_back("pndt-map.maps_rawlog=false");
         if (rawlog_inputs) sets.push_back("pndt-map.maps_rawlog_inputs=true");
@@ -164,6 +169,7 @@ int main(int argc, char** argv)
         else if (!folder)  // the rawlog's own robot poses, taken while it is replayed
             track = PoseTrack::whileReading(input, settings.pose_label, settings.pose_max_gap);
         // else: the dataset's own per-frame poses
+        if (track) track->setClockOffset(settings.clock_offset);
         const bool poses_in_stream = track && !folder && settings.pose_source != "file";
 
         fmt::print("pndt-map: {} ({}), {}\n", input,

@@ -5,6 +5,7 @@
 #include <pndt/app/pose_refinement.h>
 #include <pndt/mrpt/config_section.h>
 
+#include <cmath>
 #include <sstream>
 
 namespace pndt::app
@@ -27,6 +28,7 @@ MapperSettings MapperSettings::load(const mrpt::config::CConfigFileBase& cfg)
     c.read("pose_frame", s.pose_frame);
     c.read("pose_label", s.pose_label);
     c.read("pose_max_gap", s.pose_max_gap);
+    c.read("clock_offset", s.clock_offset);
     c.read("camera_pose", camera);
     c.read("rgbd_label", s.rgbd_label);
     c.read("maps_rawlog", s.short_term.write_rawlog);
@@ -49,6 +51,7 @@ MapperSettings MapperSettings::load(const mrpt::config::CConfigFileBase& cfg)
     if (s.pose_source != "rawlog" && s.pose_source != "file") throw bad("pose_source", s.pose_source, "is not rawlog or file");
     if (s.pose_source == "file" && s.pose_file.empty()) throw bad("pose_file", "", "is required with pose_source=file");
     if (!(s.pose_max_gap > 0)) throw bad("pose_max_gap", std::to_string(s.pose_max_gap), "must be positive");
+    if (!std::isfinite(s.clock_offset)) throw bad("clock_offset", std::to_string(s.clock_offset), "must be finite");
     {
         std::istringstream in(refine_options);
         refine::RefineOptions check;

@@ -20,6 +20,7 @@ struct MapperSettings
     std::string pose_frame;              ///< robot | camera; empty = the format's default
     std::string pose_label;              ///< CObservationRobotPose label; empty = any
     double pose_max_gap = 0.1;           ///< seconds
+    double clock_offset = 0;             ///< seconds added to pose stamps (localiser -> camera clock)
     std::optional<mrpt::poses::CPose3D> camera_pose;  ///< robot -> camera; empty = scans' sensorPose
     std::string rgbd_label;              ///< only this range-scan sensor; empty = all
     bool maps_rawlog_inputs = false;     ///< interleave the input observations into maps.rawlog

@@ -1,6 +1,7 @@
 // pndt-map end to end, as a user runs it: short-term maps, poses from a file,
 // bad input, signals, and MRPT's own rawlog-edit on the outputs.
 #include <gtest/gtest.h>
+#include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/obs/CObservationRobotPose.h>
@@ -18,6 +19,7 @@
 #include <tuple>
 #include <cmath>
 #include <fstream>
+#include <sstream>
 #include <thread>
 
 #include "cli_fixture.h"
@@ -144,6 +146,60 @@ TEST(PndtMapCli, RtabmapFormat11PosesGiveTheSameMapAsRawlogPoses)
     EXPECT_GE(same_occ, size_t(0.999 * common));
     EXPECT_GE(same_label, size_t(0.999 * common));
     EXPECT_EQ(ma->core().instances().size(), mb->core().instances().size());
+}
+
+TEST(PndtMapCli, AClockOffsetLinesUpPosesStampedOnAnotherClock)
+{
+    // The same poses stamped 0.25 s early (a localiser on another clock): with --clock-offset 0.25
+    // (or [pndt-map] clock_offset) the map is the one of the right stamps, voxel for voxel.
+    const fs::path out = tempDir("clock_offset");
+    Room(40).writeRtabmap11((out / "poses.txt").string(), 40);
+    {
+        std::ifstream in(out / "poses.txt");
+        std::ofstream early(out / "early.txt");
+        for (std::string line; std::getline(in, line);)
+        {
+            if (line.empty() || line[0] == '#')
+            {
+                early << line << "\n";
+                continue;
+            }
+            std::istringstream ls(line);
+            std::string stamp, rest;
+            ls >> stamp;
+            std::getline(ls, rest);
+            early << fmt::format("{:.6f}", std::stod(stamp) - 0.25) << rest << "\n";
+        }
+    }
+    const std::string poses = " --pose-format rtabmap11 --poses ";
+    const RunResult a = run(mapExe() + roomRawlog().string() + " -o " + (out / "a").string() + poses + (out / "poses.txt").string());
+    const RunResult b = run(mapExe() + roomRawlog().string() + " -o " + (out / "b").string() + poses +
+                            (out / "early.txt").string() + " --clock-offset 0.25");
+    const RunResult c = run(mapExe() + roomRawlog().string() + " -o " + (out / "c").string() + poses +
+                            (out / "early.txt").string() + " -s pndt-map.clock_offset=0.25");
+    const RunResult d = run(mapExe() + roomRawlog().string() + " -o " + (out / "d").string() + poses + (out / "early.txt").string());
+    ASSERT_EQ(a.code, 0) << a.out;
+    ASSERT_EQ(b.code, 0) << b.out;
+    ASSERT_EQ(c.code, 0) << c.out;
+    ASSERT_EQ(d.code, 0) << d.out;
+    const auto ma = loadMapArchive((out / "a/map_0000.pndt.gz").string());
+    auto sameMap = [&](const fs::path& dir) {
+        const auto mb = loadMapArchive((dir / "map_0000.pndt.gz").string());
+        const auto& va = ma->core().voxels();
+        const auto& vb = mb->core().voxels();
+        if (va.size() != vb.size()) return false;
+        for (uint32_t i = 0; i < va.size(); ++i)
+        {
+            const uint32_t j = vb.find(va.key(i));
+            if (j == pndt::kNoRecord || ma->core().isOccupied(va[i]) != mb->core().isOccupied(vb[j]) ||
+                !(ma->core().panopticLabel(i) == mb->core().panopticLabel(j)))
+                return false;
+        }
+        return true;
+    };
+    EXPECT_TRUE(sameMap(out / "b"));
+    EXPECT_TRUE(sameMap(out / "c"));
+    EXPECT_FALSE(sameMap(out / "d"));  // without the offset the poses are 0.25 s late
 }
 
 TEST(PndtMapCli, TruncatedRawlogMapsWhatItCouldAndSaysWhere)

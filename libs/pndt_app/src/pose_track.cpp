@@ -79,7 +79,7 @@ PoseTrack PoseTrack::fromFile(const std::string& path, io::PoseFormat format, st
 
 std::optional<Pose> PoseTrack::cameraAt(double t, const mrpt::poses::CPose3D& extrinsic) const
 {
-    const auto p = interp_.at(t, max_gap_);
+    const auto p = interp_.at(t - clock_offset_, max_gap_);
     if (!p) return std::nullopt;
     if (frame_ == PoseFrame::Camera) return *p;
     return cameraPoseInWorld(toMrpt(*p), extrinsic);

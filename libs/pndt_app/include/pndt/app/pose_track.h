@@ -43,10 +43,14 @@ class PoseTrack
     /// The optical camera pose at time t, or nullopt if no pose is within the
     /// gap. `extrinsic` = robot -> camera (MRPT sensor axes), used for robot poses.
     std::optional<Pose> cameraAt(double t, const mrpt::poses::CPose3D& extrinsic) const;
+    /// Seconds added to every pose stamp (localiser clock -> camera clock, as pndt-live's
+    /// --clock-offset): a pose stamped s is the pose at camera time s + offset.
+    void setClockOffset(double seconds) { clock_offset_ = seconds; }
     size_t size() const { return interp_.size(); }
     bool empty() const { return interp_.empty(); }
-    /// Time of the last pose (throws if empty): frames up to it have their final pose.
-    double endTime() const { return interp_.endTime(); }
+    /// Time of the last pose on the camera clock (throws if empty): frames up to it have their
+    /// final pose.
+    double endTime() const { return interp_.endTime() + clock_offset_; }
     PoseFrame frame() const { return frame_; }
     const std::string& source() const { return source_; }
 
@@ -58,6 +62,7 @@ class PoseTrack
     PoseFrame frame_;
     double max_gap_;
     std::string source_;
+    double clock_offset_ = 0;
 };
 
 }  // namespace pndt::app
