@@ -4,7 +4,6 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
-#include <array>
 #include <ctime>
 #include <cmath>
 #include <limits>
@@ -25,12 +24,14 @@ PanopticPostprocessor::PanopticPostprocessor(const ClassSet& classes, std::vecto
     if (options_.top_k < 1) throw InputError(fmt::format("postprocess: top_k must be >= 1 (got {})", options_.top_k));
     if (channel_to_class_.empty() || channel_to_class_.size() > 256)
         throw InputError(fmt::format("postprocess: {} semantic channels (1..256 supported)", channel_to_class_.size()));
-    for (uint16_t c : channel_to_class_)
+    for (size_t k = 0; k < channel_to_class_.size(); ++k)
     {
+        const uint16_t c = channel_to_class_[k];
         if (!classes_.contains(c))
             throw InputError(fmt::format("postprocess: class id {} is outside the class set (0..{})", c,
                                          classes_.size() - 1));
-        channel_is_thing_.push_back(classes_.isThing(c) ? 1 : 0);
+        channel_is_thing_[k] = classes_.isThing(c) ? 1 : 0;
+        channel_class_[k] = c;
     }
 }
 
@@ -519,8 +520,6 @@ void PanopticPostprocessor::run(const PanopticTensors& t, PanopticFrame& out)
     float* mx = scratch(max_logit_, kBlock, t.semantic, 1024);
     float* sum = scratch(exp_sum_, kBlock, t.semantic, 2048);
     int32_t* am = scratch(argmax_, kBlock, t.semantic, 3072);
-    std::array<int32_t, 256> class_of{};  // channel -> class id, for the vector kernel's gather
-    for (size_t c = 0; c < channel_to_class_.size(); ++c) class_of[c] = channel_to_class_[c];
     for (size_t b = 0; b < blocks; ++b)
     {
         const size_t b0 = b * kBlock, n = std::min(kBlock, N - b0);
@@ -534,7 +533,7 @@ void PanopticPostprocessor::run(const PanopticTensors& t, PanopticFrame& out)
         const bool avx2 = options_.kernel != Kernel::Scalar && n % 8 == 0 && cpuHasAvx2();
         if (avx512)
         {
-            finite = blockPixelsAvx512(t.semantic, N, C, b0, n, logits, skip, skipped_last, mx, am, class_of.data(),
+            finite = blockPixelsAvx512(t.semantic, N, C, b0, n, logits, skip, skipped_last, mx, am, channel_class_.data(),
                                        sem, score);
             fused = true;
         }
@@ -777,24 +776,12 @@ void PanopticPostprocessor::groupBlock(const PanopticTensors& t, size_t b0, size
     // output they come in long runs, and they need neither their offsets nor a vote; with
     // AVX-512 such runs go 16 pixels a step.)
     size_t x = b0 % W, y = b0 / W;  // walked, not divided per pixel
-#if defined(__x86_64__) && defined(__GNUC__)
-    // Only thing pixels read their offsets, too sparsely for the hardware prefetchers: the next
-    // block's offset lines are asked into L2 now, while this block and the next max pass run.
-    if (any_centre)
-        for (size_t k = b0 + kBlock; k < std::min(b0 + 2 * kBlock, N); k += 16)
-        {
-            _mm_prefetch(reinterpret_cast<const char*>(dx + k), _MM_HINT_T1);
-            _mm_prefetch(reinterpret_cast<const char*>(dy + k), _MM_HINT_T1);
-        }
-#endif
 #if PNDT_HAVE_AVX2_KERNEL
     const bool fast = options_.kernel == PostprocessOptions::Kernel::Best && W >= 16 && cpuHasAvx512();
-    std::array<int32_t, 256> is_thing{};
     GroupingView view{};
     if (fast)
     {
-        for (size_t c = 0; c < channel_is_thing_.size(); ++c) is_thing[c] = channel_is_thing_[c];
-        view = {am, b0, is_thing.data(), any_centre, dx, dy, s, grid_x0_, grid_y0_, inv, gw, gh, grid_w_,
+        view = {am, b0, channel_is_thing_.data(), any_centre, dx, dy, s, grid_x0_, grid_y0_, inv, gw, gh, grid_w_,
                 grid_single_.data(), sem, score, centre_score_.data(), inst, pan};
     }
     const auto search = [this](float vx, float vy) { return nearestCentre(vx, vy); };

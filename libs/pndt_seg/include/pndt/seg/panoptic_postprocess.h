@@ -7,6 +7,7 @@
 #include <pndt/class_set.h>
 #include <pndt/frame.h>
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -87,7 +88,10 @@ class PanopticPostprocessor
 
     const ClassSet& classes_;
     std::vector<uint16_t> channel_to_class_;
-    std::vector<uint8_t> channel_is_thing_;
+    /// Per channel (all 256 a channel index can take, so vector kernels can gather them):
+    /// 1 for a thing class, else 0; and its class id.
+    std::array<int32_t, 256> channel_is_thing_{};
+    std::array<int32_t, 256> channel_class_{};
     PostprocessOptions options_;
 
     PostprocessTiming timing_;
