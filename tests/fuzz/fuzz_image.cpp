@@ -1,4 +1,4 @@
-// Depth / label / colour image readers (PNG and whatever OpenCV decodes).
+// Depth / label / colour image readers (PNG, JPEG, PNM, PFM; other formats are refused unread).
 // First byte selects: 0 depth (mm), 1 depth (TUM units), 2 label, 3 colour.
 #include <pndt/io/images.h>
 

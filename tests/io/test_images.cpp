@@ -103,8 +103,8 @@ TEST_F(Images, LabelImages)
     EXPECT_EQ(readLabelImage(path("inst.png")).at(0, 0), (1 << 8) | 2);
 
     cv::Mat f(1, 1, CV_32FC1, cv::Scalar(1.5));
-    cv::imwrite(path("f.tiff"), f);
-    EXPECT_INPUT_ERROR(readLabelImage(path("f.tiff")), "f.tiff", "32-bit float");
+    cv::imwrite(path("f.pfm"), f);
+    EXPECT_INPUT_ERROR(readLabelImage(path("f.pfm")), "f.pfm", "32-bit float");
 }
 
 
@@ -147,6 +147,29 @@ TEST_F(Images, HugeImageHeadersAreRefusedBeforeAllocating)
                        "edge.png", "cannot decode");
 }
 
+// Formats whose header size is not checked never reach a decoder (the fuzzer found OpenCV's
+// JPEG 2000 decoder allocating over a GiB for a small file), even when they decode fine.
+TEST_F(Images, OtherFormatsAreRefusedBeforeDecoding)
+{
+    cv::Mat c(2, 3, CV_8UC3, cv::Scalar(1, 2, 3));
+    for (const char* name : {"c.tiff", "c.bmp", "c.webp"})
+    {
+        ASSERT_TRUE(cv::imwrite(path(name), c)) << name;
+        EXPECT_INPUT_ERROR(readColorImage(path(name)), name, "not a PNG, JPEG, PNM or PFM image");
+    }
+    // A JPEG 2000 codestream signature followed by garbage: refused the same way.
+    EXPECT_INPUT_ERROR(readDepthImage(write("x.png", std::string("\0\0\0\x0CjP  \r\n\x87\n\0\0", 14))), "x.png",
+                       "not a PNG, JPEG, PNM or PFM image");
+    // A PNG cut inside its header: named as truncated, not as another format.
+    EXPECT_INPUT_ERROR(readLabelImage(write("cut.png", pngHeaderClaiming(4, 4, 8, 0).substr(0, 12))), "cut.png",
+                       "header is truncated");
+    // The same pixels as PPM and PNG decode to the same image.
+    ASSERT_TRUE(cv::imwrite(path("c.ppm"), c));
+    ASSERT_TRUE(cv::imwrite(path("c.png"), c));
+    EXPECT_EQ(readColorImage(path("c.ppm")).at(1, 2), readColorImage(path("c.png")).at(1, 2));
+    EXPECT_EQ(readColorImage(path("c.ppm")).at(1, 2), (std::array<uint8_t, 3>{3, 2, 1}));
+}
+
 TEST(ImageHeaderSize, PngJpegPnmAndOthers)
 {
     const std::string png = pngHeaderClaiming(640, 480, 16, 0);
@@ -159,6 +182,11 @@ TEST(ImageHeaderSize, PngJpegPnmAndOthers)
     EXPECT_EQ(imageHeaderSize(reinterpret_cast<const uint8_t*>(tiff.data()), tiff.size()),
               (std::array<int64_t, 2>{-1, -1}));
     EXPECT_EQ(imageHeaderSize(reinterpret_cast<const uint8_t*>(png.data()), 20), (std::array<int64_t, 2>{-1, -1}));
+    const std::string pfm = "Pf\n4 3\n-1.0\n";
+    EXPECT_EQ(imageHeaderSize(reinterpret_cast<const uint8_t*>(pfm.data()), pfm.size()),
+              (std::array<int64_t, 2>{4, 3}));
+    EXPECT_TRUE(imageFormatKnown(reinterpret_cast<const uint8_t*>(png.data()), 20));
+    EXPECT_FALSE(imageFormatKnown(reinterpret_cast<const uint8_t*>(tiff.data()), tiff.size()));
     EXPECT_EQ(imageSizeProblem(8192, 8192), "");
     EXPECT_EQ(imageSizeProblem(-1, -1), "");
     EXPECT_NE(imageSizeProblem(kMaxImageSide + 1, 1), "");

@@ -444,13 +444,45 @@ TEST_F(LiveCli, MrptAndOpenni2BackendsMapTheSameSceneWithinWhatHostStampsAllow)
     }
     for (uint32_t j = 0; j < vb.size(); ++j) occ_b += b->core().isOccupied(vb[j]);
     const double iou = double(both) / double(occ_a + occ_b - both);
-    std::printf("[measured] occupied voxels: openni2 %zu, mrpt %zu, both %zu: IoU %.3f\n", occ_a, occ_b, both, iou);
-    // Measured on the loaded 2-core machine: IoU 0.993, 60 of 60 depth images the same frame,
-    // stamp lag median 0.1 ms, max 7.9 ms (doc: README "Live with a camera").
+    // The virtual room's walls lie on voxel boundaries: with exact poses their points split
+    // between two voxels, and a millimetre of pose error (a 1 ms stamp lag) moves a whole wall
+    // patch into one of them; the exact IoU then falls to 0.87-0.9 (measured with replays of
+    // one recording, poses shifted by -2..+5 ms: 6205-7615 occupied voxels). The same scene
+    // means: every occupied voxel of each map has an occupied voxel of the other within one.
+    const auto near_fraction = [](const pndt::PanopticNDTMap& from, const pndt::PanopticNDTMap& to) {
+        const auto& vf = from.core().voxels();
+        const auto& vt = to.core().voxels();
+        size_t occupied = 0, near = 0;
+        for (uint32_t i = 0; i < vf.size(); ++i)
+        {
+            if (!from.core().isOccupied(vf[i])) continue;
+            ++occupied;
+            const pndt::VoxelKey k = vf.key(i);
+            bool found = false;
+            for (int dx = -1; dx <= 1 && !found; ++dx)
+                for (int dy = -1; dy <= 1 && !found; ++dy)
+                    for (int dz = -1; dz <= 1 && !found; ++dz)
+                    {
+                        const uint32_t j = vt.find({k.x + dx, k.y + dy, k.z + dz});
+                        found = j != pndt::kNoRecord && to.core().isOccupied(vt[j]);
+                    }
+            near += found;
+        }
+        return occupied ? double(near) / double(occupied) : 0.0;
+    };
+    const double oni_near = near_fraction(*a, *b), mrpt_near = near_fraction(*b, *a);
+    std::printf("[measured] occupied voxels: openni2 %zu, mrpt %zu, both %zu: IoU %.3f; with an occupied voxel of "
+                "the other map within one voxel: openni2 %.4f, mrpt %.4f\n",
+                occ_a, occ_b, both, iou, oni_near, mrpt_near);
+    // Measured on the loaded 2-core machine: IoU 0.87-0.998, within one voxel 0.99x-1.000, 60
+    // of 60 depth images the same frame, stamp lag median 0.1-0.7 ms, max 7.9 ms (doc: README
+    // "Live with a camera").
     EXPECT_GT(occ_a, 1000u);
+    EXPECT_GT(double(occ_b), 0.75 * double(occ_a));
     EXPECT_LT(std::abs(median), 0.5 / fps);
     EXPECT_GE(same_depth, 50u);
-    EXPECT_GT(iou, 0.9);
+    EXPECT_GT(oni_near, 0.98);
+    EXPECT_GT(mrpt_near, 0.98);
 }
 
 TEST_F(LiveCli, PosesFromAnMrptGrabber)

@@ -1,6 +1,7 @@
 #include "png_util.h"
 
 #include <pndt/io/atomic_file.h>
+#include <pndt/io/images.h>
 #include <pndt/types.h>
 
 #include <opencv2/imgcodecs.hpp>
@@ -27,8 +28,17 @@ void writePng(const std::string& path, const cv::Mat& img)
 
 cv::Mat readImage(const std::string& path)
 {
-    cv::Mat m = cv::imread(path, cv::IMREAD_UNCHANGED);
-    if (m.empty()) throw InputError("cannot read image '" + path + "'");
+    const std::vector<uint8_t> bytes = io::readCheckedImageBytes(path);  // format and size checked first
+    cv::Mat m;
+    try
+    {
+        m = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
+    }
+    catch (const cv::Exception& e)
+    {
+        throw InputError("cannot decode image '" + path + "': " + e.what());
+    }
+    if (m.empty()) throw InputError("cannot decode image '" + path + "' (corrupt or truncated file)");
     return m;
 }
 }  // namespace pndt::eval::detail

@@ -9,6 +9,6 @@ namespace pndt::eval::detail
 {
 /// Encodes `img` as PNG and writes it atomically. Throws io::WriteError naming `path`.
 void writePng(const std::string& path, const cv::Mat& img);
-/// cv::imread(IMREAD_UNCHANGED); throws InputError naming `path` if it cannot be read.
+/// io::readCheckedImageBytes, then cv::imdecode(IMREAD_UNCHANGED); throws InputError naming `path`.
 cv::Mat readImage(const std::string& path);
 }  // namespace pndt::eval::detail

@@ -8,7 +8,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <fstream>
+#include <vector>
 
 namespace pndt::io
 {
@@ -39,7 +41,8 @@ std::array<int64_t, 2> imageHeaderSize(const uint8_t* b, size_t n)
         }
         return {-1, -1};
     }
-    if (n >= 3 && b[0] == 'P' && b[1] >= '1' && b[1] <= '6')  // PNM: "P5 <w> <h> ..." with # comments
+    // PNM "P5 <w> <h> ..." with # comments; PFM "PF <w> <h> <scale>" (32-bit float)
+    if (n >= 3 && b[0] == 'P' && ((b[1] >= '1' && b[1] <= '6') || b[1] == 'F' || b[1] == 'f'))
     {
         int64_t v[2] = {-1, -1};
         size_t p = 2;
@@ -59,6 +62,14 @@ std::array<int64_t, 2> imageHeaderSize(const uint8_t* b, size_t n)
     return {-1, -1};
 }
 
+bool imageFormatKnown(const uint8_t* b, size_t n)
+{
+    static const uint8_t kPng[4] = {0x89, 'P', 'N', 'G'};
+    if (n >= 4 && std::equal(kPng, kPng + 4, b)) return true;
+    if (n >= 2 && b[0] == 0xFF && b[1] == 0xD8) return true;
+    return n >= 2 && b[0] == 'P' && ((b[1] >= '1' && b[1] <= '6') || b[1] == 'F' || b[1] == 'f');
+}
+
 std::string imageSizeProblem(int64_t w, int64_t h)
 {
     if (w < 0 || h < 0) return {};
@@ -68,30 +79,52 @@ std::string imageSizeProblem(int64_t w, int64_t h)
                            w, h, kMaxImageSide, kMaxImagePixels);
     return {};
 }
+
+std::vector<uint8_t> readCheckedImageBytes(const std::string& path)
+{
+    detail::requireRegularFile(path);
+    // The whole file is read once and decoded from memory, after its header was checked: only
+    // formats whose header size is checked here reach a decoder (JPEG 2000, TIFF, EXR, WebP...
+    // decoders size allocations from fields this reader does not check).
+    std::vector<uint8_t> bytes;
+    {
+        std::error_code ec;
+        const auto size = std::filesystem::file_size(path, ec);
+        if (ec) detail::failFile(path, fmt::format("cannot read: {}", ec.message()));
+        if (size > kMaxImageFileBytes)
+            detail::failFile(path, fmt::format("{} bytes, more than an image file may have ({})", size, kMaxImageFileBytes));
+        bytes.resize(size_t(size));
+        std::ifstream f(path, std::ios::binary);
+        f.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()));
+        if (!f && !bytes.empty()) detail::failFile(path, "cannot read the file");
+    }
+    const auto wh = imageHeaderSize(bytes.data(), bytes.size());
+    if (wh[0] < 0)
+    {
+        if (imageFormatKnown(bytes.data(), bytes.size()))
+            detail::failFile(path, "cannot decode image: its header is truncated or corrupt");
+        detail::failFile(path, "cannot decode image: not a PNG, JPEG, PNM or PFM image (the only formats the image readers decode)");
+    }
+    if (const std::string problem = imageSizeProblem(wh[0], wh[1]); !problem.empty()) detail::failFile(path, problem);
+    return bytes;
+}
 }  // namespace pndt::io
 
 namespace pndt::io::detail
 {
 cv::Mat readImageUnchanged(const std::string& path)
 {
-    requireRegularFile(path);
-    {
-        uint8_t head[4096];
-        std::ifstream f(path, std::ios::binary);
-        f.read(reinterpret_cast<char*>(head), sizeof head);
-        const auto wh = imageHeaderSize(head, size_t(f.gcount()));
-        if (const std::string problem = imageSizeProblem(wh[0], wh[1]); !problem.empty()) failFile(path, problem);
-    }
+    const std::vector<uint8_t> bytes = readCheckedImageBytes(path);
     cv::Mat m;
     try
     {
-        m = cv::imread(path, cv::IMREAD_UNCHANGED);
+        m = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
     }
     catch (const cv::Exception& e)
     {
         failFile(path, fmt::format("cannot decode image: {}", e.what()));
     }
-    if (m.empty()) failFile(path, "cannot decode image (unsupported, corrupt or truncated file)");
+    if (m.empty()) failFile(path, "cannot decode image (corrupt or truncated file)");
     return m;
 }
 

@@ -7,7 +7,8 @@
 
 namespace pndt::io::detail
 {
-/// cv::imread(IMREAD_UNCHANGED); throws InputError "file not found" / "cannot decode image".
+/// readCheckedImageBytes, then cv::imdecode(IMREAD_UNCHANGED); throws InputError "file not found",
+/// "not a PNG, JPEG, PNM or PFM image", "cannot decode image".
 cv::Mat readImageUnchanged(const std::string& path);
 /// e.g. "16-bit unsigned, 1 channel".
 std::string describeMat(const cv::Mat& m);

@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace pndt::io
 {
@@ -23,13 +24,24 @@ inline constexpr double kDepthUnitsTum = 5000.0;         ///< TUM RGB-D
 inline constexpr int64_t kMaxImageSide = 32768;
 inline constexpr int64_t kMaxImagePixels = int64_t(1) << 26;
 
-/// Width and height claimed by the header of PNG, JPEG (SOF marker) or binary/ASCII PNM bytes;
-/// {-1, -1} for other formats or a header too short to tell (the decoder then has the word).
+/// Image files larger than this are refused unread (an uncompressed PNM at the pixel limit
+/// with 4 channels of 16 bit is 512 MiB).
+inline constexpr uint64_t kMaxImageFileBytes = uint64_t(1) << 30;
+
+/// Width and height claimed by the header of PNG, JPEG (SOF marker), binary/ASCII PNM or PFM
+/// bytes; {-1, -1} for other formats or a header too short to tell. The readers decode only
+/// these formats: other decoders (JPEG 2000, TIFF, ...) size allocations from unchecked fields.
 std::array<int64_t, 2> imageHeaderSize(const uint8_t* bytes, size_t size);
+/// Whether the bytes start like PNG, JPEG, PNM or PFM (the formats imageHeaderSize reads).
+bool imageFormatKnown(const uint8_t* bytes, size_t size);
 /// Empty when `width` x `height` is within the limits above, else why not.
 std::string imageSizeProblem(int64_t width, int64_t height);
+/// The bytes of an image file for a decoder (cv::imdecode), read once, after its format and
+/// header size were checked: throws InputError naming the file when it is not PNG, JPEG, PNM
+/// or PFM, its header is truncated, or it claims more than the limits above.
+std::vector<uint8_t> readCheckedImageBytes(const std::string& path);
 
-/// 16-bit single-channel PNG (or any 16-bit single-channel format OpenCV decodes) → metres:
+/// 16-bit single-channel PNG (or 16-bit PGM) → metres:
 /// metres = raw / units_per_metre; raw 0 → 0 (invalid). Throws on 8-bit, multi-channel or float
 /// images and on units_per_metre <= 0.
 Image<float> readDepthImage(const std::string& path, double units_per_metre = kDepthUnitsMillimetre);
