@@ -596,3 +596,53 @@ TEST(PredictedPixels, TheFastPathsGiveTheScalarResults)
         EXPECT_EQ(run, 5 + mapped);
     }
 }
+
+namespace pndt
+{
+// Phase 2's block kernels: whole blocks of 8 pixels of the run's voxel, their
+// exact integer sums as the pixel loop would give, nothing past the blocks.
+TEST(ProjectionKernels, RunBlocksTakeWholeBlocksOfTheRunAndSumThemExactly)
+{
+    std::vector<RunBlocksFn> kernels;
+    if (RunBlocksFn k = runBlocksAvx2()) kernels.push_back(k);
+    if (RunBlocksFn k = runBlocksAvx512()) kernels.push_back(k);
+    if (kernels.empty()) GTEST_SKIP() << "no AVX2 on this CPU";
+    std::mt19937 rng(5);
+    std::uniform_int_distribution<int64_t> q(-(int64_t(1) << 19), (int64_t(1) << 19) - 1);
+    const int W = 77;
+    std::vector<uint64_t> keys(W);
+    std::vector<double> qs[3];
+    for (auto& v : qs) v.resize(W);
+    size_t blocks = 0;
+    for (int trial = 0; trial < 3000; ++trial)
+    {
+        const uint64_t key = 12345;
+        const int run = int(rng() % W);  // the run's pixels from 0, then another voxel
+        for (int c = 0; c < W; ++c)
+        {
+            keys[size_t(c)] = c < run ? key : (rng() % 2 ? key + 1 : kInvalidKey);
+            for (auto& v : qs) v[size_t(c)] = double(q(rng));
+        }
+        const int n = int(rng() % (W + 1));
+        const int want = std::min(run, n) / 8 * 8;
+        double ref[9] = {0.5, 1, 2, 3, 4, 5, 6, 7, 8};  // sums so far are added to, not replaced
+        for (int c = 0; c < want; ++c)
+        {
+            const double x = qs[0][size_t(c)], y = qs[1][size_t(c)], z = qs[2][size_t(c)];
+            const double add[9] = {x, y, z, x * x, x * y, x * z, y * y, y * z, z * z};
+            for (int j = 0; j < 9; ++j) ref[j] += add[j];
+        }
+        blocks += size_t(want / 8);
+        for (RunBlocksFn k : kernels)
+        {
+            double sums[9] = {0.5, 1, 2, 3, 4, 5, 6, 7, 8};
+            std::vector<int32_t> slots(W, -7);
+            ASSERT_EQ(k(keys.data(), qs[0].data(), qs[1].data(), qs[2].data(), n, key, 42, slots.data(), sums), want)
+                << "trial " << trial;
+            for (int j = 0; j < 9; ++j) ASSERT_EQ(sums[j], ref[j]) << "trial " << trial << " sum " << j;
+            for (int c = 0; c < W; ++c) ASSERT_EQ(slots[size_t(c)], c < want ? 42 : -7) << "trial " << trial;
+        }
+    }
+    EXPECT_GT(blocks, 3000u);
+}
+}  // namespace pndt

@@ -1,5 +1,6 @@
 // integrate() with several threads gives the map of one thread, bit for bit:
-// every voxel, shape, histogram and counter, for every ray mode and ablation.
+// every voxel, shape, histogram and counter, for every ray mode and ablation;
+// and so does every SIMD version of the per-pixel kernels.
 #include <gtest/gtest.h>
 #include <pndt/panoptic_map.h>
 #include <pndt/sim/renderer.h>
@@ -8,6 +9,8 @@
 
 #include <cstring>
 #include <random>
+
+#include "projection_kernels.h"
 
 using namespace pndt;
 
@@ -150,6 +153,32 @@ TEST(ThreadsIdentical, AnyThreadCountGivesTheSameMap)
         o.threads = threads;
         expectIdentical(one, build(d, o));
     }
+}
+
+// The per-pixel kernels (projection, the run sums, predicted instances, vtou
+// rows) in every version this CPU has give the scalar code's map, at 10 and 5 cm,
+// with one and three threads.
+TEST(ThreadsIdentical, EverySimdVersionGivesTheScalarMap)
+{
+    const Frames d = roomFrames(8, 640, 480);
+    const SimdCap before = simdCap();
+    for (double voxel : {0.1, 0.05})
+        for (int threads : {1, 3})
+        {
+            MapOptions o;
+            o.voxel_size = voxel;
+            o.threads = threads;
+            setSimdCap(SimdCap::Scalar);
+            const Built scalar = build(d, o);
+            ASSERT_GT(scalar.totals.matched_instances, 10u);
+            for (SimdCap cap : {SimdCap::Sse2, SimdCap::Avx2, SimdCap::Avx512})
+            {
+                SCOPED_TRACE(testing::Message() << "voxel " << voxel << ", threads " << threads << ", cap " << int(cap));
+                setSimdCap(cap);
+                expectIdentical(scalar, build(d, o));
+            }
+        }
+    setSimdCap(before);
 }
 
 TEST(ThreadsIdentical, FineVoxelsPerPixelRaysAndCubes)

@@ -9,6 +9,7 @@
 
 #include "frame_pixels.h"
 #include "map_scratch.h"
+#include "mask_row_kernels.h"
 #include "predicted_pixels.h"
 
 namespace pndt
@@ -171,6 +172,7 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
     s.thing_spans.resize(TV + 1);
     s.thing_span_count.resize(TV);
     const int thing_tasks = threads > 1 && TV >= 128 ? 4 * threads : 1;
+    s.mask_row = bestMaskRow();
     const auto footprints = [&](int t) {
         for (size_t u = TV * size_t(t) / size_t(thing_tasks), e = TV * size_t(t + 1) / size_t(thing_tasks); u < e; ++u)
         {
@@ -463,26 +465,15 @@ uint32_t PanopticMap::footprintSpans(const MaskFootprint& fp, const FramePixels&
     const double k2 = options_.vtou_mahalanobis_sq;
     const int32_t* predicted = s.pixel_predicted.data();
     const float* depth = f.depth.data.data();
+    const DepthWindow window = depthWindow(fp.z0, tol);
     uint32_t n = 0;
     for (int r = fp.r0; r <= fp.r1; ++r)
     {
-        const int32_t* to_frame = s.predicted_bands[size_t(s.bandOfRow(r, H))].remap.data();
         int a, b;
         if (!footprintRow(fp, r, k2, a, b)) continue;
         const uint32_t row = uint32_t(r) * uint32_t(W);
-        // Runs of pixels that pass, of one (band-local) predicted index.
-        int32_t run_p = kUnmappedPixel;
-        uint32_t run_begin = 0;
-        for (int c = a; c <= b; ++c)
-        {
-            const int32_t p = predicted[row + c];
-            const int32_t q = p == kUnmappedPixel || !agreesInDepth(fp, depth[row + c], tol) ? kUnmappedPixel : p;
-            if (q == run_p) continue;
-            if (run_p != kUnmappedPixel) out[n++] = {row + run_begin, row + uint32_t(c), run_p >= 0 ? to_frame[run_p] : run_p};
-            run_p = q;
-            run_begin = uint32_t(c);
-        }
-        if (run_p != kUnmappedPixel) out[n++] = {row + run_begin, row + uint32_t(b) + 1, run_p >= 0 ? to_frame[run_p] : run_p};
+        const int32_t* to_frame = s.predicted_bands[size_t(s.bandOfRow(r, H))].remap.data();
+        n += s.mask_row(predicted + row, depth + row, a, b, window, row, to_frame, out + n);
     }
     return n;
 }

@@ -13,6 +13,7 @@
 
 #include "frame_pixels.h"
 #include "mask_footprint.h"
+#include "mask_row_kernels.h"
 #include "projection_kernels.h"
 #include "worker_pool.h"
 
@@ -270,14 +271,6 @@ struct MaskCandidate
     bool operator<(const MaskCandidate& o) const { return first != o.first ? first < o.first : second < o.second; }
 };
 
-/// Pixels [begin, end) of one image row in a thing voxel's vtou (footprint and
-/// depth test passed), all of one predicted instance (frame index, -1 none).
-struct MaskSpan
-{
-    uint32_t begin, end;
-    int32_t predicted;
-};
-
 /// Room for the frame's mask spans, allocated uninitialised and only grown.
 class MaskSpanBuffer
 {
@@ -345,6 +338,7 @@ struct PanopticMap::Scratch
     std::vector<int32_t> pixel_slot;      ///< per pixel: its band's local hit slot (remap: frame slot), -1 not mapped
     std::vector<ProjectionBand> bands;    ///< bands[0] holds the merged frame result
     int band_count = 1;                   ///< bands used by this frame (projection and predicted instances)
+    MaskRowFn mask_row = &maskRowScalar;  ///< the vtou row kernel of this frame (instance matching)
     BandFlags band_done;                  ///< projected, not merged yet
     int merged_bands = 0;                 ///< bands [0, merged_bands) merged (under band_merge)
     std::mutex band_merge;

@@ -36,6 +36,14 @@ MaskFootprint cubeFootprint(const Eigen::Vector3d& min_corner, double size, cons
 /// box); false when the row has none.
 bool footprintRow(const MaskFootprint& fp, int r, double k2, int& c0, int& c1);
 
+/// Pixels [begin, end) of one image row in a thing voxel's vtou (footprint and
+/// depth test passed), all of one predicted instance (frame index, -1 none).
+struct MaskSpan
+{
+    uint32_t begin, end;
+    int32_t predicted;
+};
+
 /// The depth test: a pixel belongs to the voxel only at about its depth.
 inline bool agreesInDepth(const MaskFootprint& fp, float depth, double tolerance)
 {

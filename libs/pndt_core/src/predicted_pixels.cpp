@@ -129,11 +129,8 @@ ContinueInstanceFn continueInstanceAvx2() { return nullptr; }
 
 ContinueInstanceFn bestContinueInstance()
 {
-    static const ContinueInstanceFn best = [] {
-        const ContinueInstanceFn avx512 = simdCap() == SimdCap::Avx512 ? continueInstanceAvx512() : nullptr;
-        return avx512 ? avx512 : simdCap() >= SimdCap::Avx2 ? continueInstanceAvx2() : nullptr;
-    }();
-    return best;
+    const ContinueInstanceFn avx512 = simdCap() == SimdCap::Avx512 ? continueInstanceAvx512() : nullptr;
+    return avx512 ? avx512 : simdCap() >= SimdCap::Avx2 ? continueInstanceAvx2() : nullptr;
 }
 
 }  // namespace pndt

@@ -1,0 +1,174 @@
+#include "mask_row_kernels.h"
+
+#include "map_scratch.h"  // kUnmappedPixel
+
+#include <cmath>
+#include <limits>
+
+#if defined(__x86_64__) || defined(_M_X64)
+#include <immintrin.h>
+#define PNDT_X86 1
+#endif
+
+namespace pndt
+{
+namespace
+{
+inline bool passes(float d, double z0, double tolerance) { return std::abs(double(d) - z0) <= tolerance; }
+
+/// The pixel at column c starts a new run value q (q != run_p): closes the
+/// current run (if it is a passing one) and starts the next.
+inline void changeRun(int32_t q, int c, uint32_t row, const int32_t* to_frame, int32_t& run_p, int& run_begin,
+                      MaskSpan* out, uint32_t& n)
+{
+    if (run_p != kUnmappedPixel)
+        out[n++] = {row + uint32_t(run_begin), row + uint32_t(c), run_p >= 0 ? to_frame[run_p] : run_p};
+    run_p = q;
+    run_begin = c;
+}
+
+inline uint32_t closeRow(int c1, uint32_t row, const int32_t* to_frame, int32_t run_p, int run_begin, MaskSpan* out,
+                         uint32_t n)
+{
+    if (run_p != kUnmappedPixel)
+        out[n++] = {row + uint32_t(run_begin), row + uint32_t(c1) + 1, run_p >= 0 ? to_frame[run_p] : run_p};
+    return n;
+}
+}  // namespace
+
+DepthWindow depthWindow(double z0, double tolerance)
+{
+    DepthWindow w;
+    if (!(tolerance >= 0) || !std::isfinite(z0)) return w;
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    // The rounded bounds lie within an ulp or two of the exact ends: step each
+    // inwards until it passes, then outwards while its neighbour passes.
+    float lo = float(z0 - tolerance), hi = float(z0 + tolerance);
+    while (lo <= hi && lo < kInf && !passes(lo, z0, tolerance)) lo = std::nextafter(lo, kInf);
+    while (hi >= lo && hi > -kInf && !passes(hi, z0, tolerance)) hi = std::nextafter(hi, -kInf);
+    // No float passes (e.g. tolerance 0 and z0 not a float, or z0 beyond the floats).
+    if (!(lo <= hi) || !passes(lo, z0, tolerance) || !passes(hi, z0, tolerance)) return w;
+    while (lo > -kInf && passes(std::nextafter(lo, -kInf), z0, tolerance)) lo = std::nextafter(lo, -kInf);
+    while (hi < kInf && passes(std::nextafter(hi, kInf), z0, tolerance)) hi = std::nextafter(hi, kInf);
+    w.lo = lo;
+    w.hi = hi;
+    return w;
+}
+
+uint32_t maskRowScalar(const int32_t* predicted, const float* depth, int c0, int c1, DepthWindow w, uint32_t row,
+                       const int32_t* to_frame, MaskSpan* out)
+{
+    uint32_t n = 0;
+    int32_t run_p = kUnmappedPixel;
+    int run_begin = 0;
+    for (int c = c0; c <= c1; ++c)
+    {
+        const int32_t p = predicted[c];
+        const float d = depth[c];
+        const int32_t q = p == kUnmappedPixel || !(w.lo <= d && d <= w.hi) ? kUnmappedPixel : p;
+        if (q != run_p) changeRun(q, c, row, to_frame, run_p, run_begin, out, n);
+    }
+    return closeRow(c1, row, to_frame, run_p, run_begin, out, n);
+}
+
+#ifdef PNDT_X86
+__attribute__((target("avx2"))) static uint32_t maskRowAvx2Impl(const int32_t* predicted, const float* depth, int c0,
+                                                                 int c1, DepthWindow w, uint32_t row,
+                                                                 const int32_t* to_frame, MaskSpan* out)
+{
+    uint32_t n = 0;
+    int32_t run_p = kUnmappedPixel;
+    int run_begin = 0;
+    const __m256 lo = _mm256_set1_ps(w.lo), hi = _mm256_set1_ps(w.hi);
+    const __m256i unmapped = _mm256_set1_epi32(kUnmappedPixel);
+    const __m256i shift = _mm256_setr_epi32(7, 0, 1, 2, 3, 4, 5, 6);  // lane i takes lane i - 1 (lane 0: lane 7)
+    int c = c0;
+    for (; c + 8 <= c1 + 1; c += 8)
+    {
+        const __m256i p = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(predicted + c));
+        const __m256 d = _mm256_loadu_ps(depth + c);
+        // Ordered compares: NaN fails.
+        const __m256 ok = _mm256_and_ps(_mm256_cmp_ps(lo, d, _CMP_LE_OQ), _mm256_cmp_ps(d, hi, _CMP_LE_OQ));
+        const __m256i q = _mm256_blendv_epi8(unmapped, p, _mm256_castps_si256(ok));
+        // The value before each lane: the previous lane, and the run for lane 0.
+        const __m256i prev = _mm256_blend_epi32(_mm256_permutevar8x32_epi32(q, shift), _mm256_set1_epi32(run_p), 1);
+        uint32_t change = ~uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(q, prev)))) & 0xFFu;
+        while (change)
+        {
+            const int j = __builtin_ctz(change);
+            change &= change - 1;
+            changeRun(_mm256_cvtsi256_si32(_mm256_permutevar8x32_epi32(q, _mm256_set1_epi32(j))), c + j, row,
+                      to_frame, run_p, run_begin, out, n);
+        }
+    }
+    for (; c <= c1; ++c)
+    {
+        const int32_t p = predicted[c];
+        const float d = depth[c];
+        const int32_t q = p == kUnmappedPixel || !(w.lo <= d && d <= w.hi) ? kUnmappedPixel : p;
+        if (q != run_p) changeRun(q, c, row, to_frame, run_p, run_begin, out, n);
+    }
+    return closeRow(c1, row, to_frame, run_p, run_begin, out, n);
+}
+
+__attribute__((target("avx512f"))) static uint32_t maskRowAvx512Impl(const int32_t* predicted, const float* depth,
+                                                                     int c0, int c1, DepthWindow w, uint32_t row,
+                                                                     const int32_t* to_frame, MaskSpan* out)
+{
+    uint32_t n = 0;
+    int32_t run_p = kUnmappedPixel;
+    int run_begin = 0;
+    const __m512 lo = _mm512_set1_ps(w.lo), hi = _mm512_set1_ps(w.hi);
+    const __m512i unmapped = _mm512_set1_epi32(kUnmappedPixel);
+    alignas(64) int32_t qs[16];
+    for (int c = c0; c <= c1; c += 16)
+    {
+        // The last step loads only the row's remaining pixels; the lanes beyond
+        // take the run's value, so they change nothing.
+        const int left = c1 + 1 - c;
+        const __mmask16 in = left >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << left) - 1);
+        const __m512i p = _mm512_maskz_loadu_epi32(in, predicted + c);
+        const __m512 d = _mm512_maskz_loadu_ps(in, depth + c);
+        const __mmask16 ok = _mm512_mask_cmp_ps_mask(_mm512_cmp_ps_mask(lo, d, _CMP_LE_OQ), d, hi, _CMP_LE_OQ) & in;
+        const __m512i run = _mm512_set1_epi32(run_p);
+        const __m512i q = _mm512_mask_blend_epi32(in, run, _mm512_mask_blend_epi32(ok, unmapped, p));
+        // The value before each lane: the previous lane, and the run for lane 0.
+        const __m512i prev = _mm512_mask_alignr_epi32(run, 0xFFFF, q, run, 15);  // (unmasked: a GCC 12 warning)
+        uint32_t change = _mm512_mask_cmpneq_epi32_mask(in, q, prev);
+        if (!change) continue;
+        _mm512_store_si512(qs, q);
+        while (change)
+        {
+            const int j = __builtin_ctz(change);
+            change &= change - 1;
+            changeRun(qs[j], c + j, row, to_frame, run_p, run_begin, out, n);
+        }
+    }
+    return closeRow(c1, row, to_frame, run_p, run_begin, out, n);
+}
+
+MaskRowFn maskRowAvx2()
+{
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") ? &maskRowAvx2Impl : nullptr;
+}
+
+MaskRowFn maskRowAvx512()
+{
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx512f") ? &maskRowAvx512Impl : nullptr;
+}
+#else
+MaskRowFn maskRowAvx2() { return nullptr; }
+MaskRowFn maskRowAvx512() { return nullptr; }
+#endif
+
+MaskRowFn bestMaskRow()
+{
+    const SimdCap cap = simdCap();
+    if (const MaskRowFn avx512 = maskRowAvx512(); avx512 && cap == SimdCap::Avx512) return avx512;
+    if (const MaskRowFn avx2 = maskRowAvx2(); avx2 && cap >= SimdCap::Avx2) return avx2;
+    return &maskRowScalar;
+}
+
+}  // namespace pndt

@@ -1,0 +1,133 @@
+// The vtou row kernels (instance matching's inner loop): the depth test as a
+// float window is the double formula exactly, and every SIMD version cuts a
+// row into the same spans as a plain loop over the formula.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "map_scratch.h"
+#include "mask_footprint.h"
+#include "mask_row_kernels.h"
+
+namespace pndt::test
+{
+namespace
+{
+bool formula(float d, double z0, double tol) { return std::abs(double(d) - z0) <= tol; }
+bool inWindow(float d, DepthWindow w) { return w.lo <= d && d <= w.hi; }
+
+/// The loop footprintSpans ran before the kernels, on the formula itself.
+std::vector<MaskSpan> reference(const int32_t* predicted, const float* depth, int c0, int c1, double z0, double tol,
+                                uint32_t row, const int32_t* to_frame)
+{
+    std::vector<MaskSpan> out;
+    int32_t run_p = kUnmappedPixel;
+    int run_begin = 0;
+    for (int c = c0; c <= c1 + 1; ++c)
+    {
+        const int32_t q = c > c1 || predicted[c] == kUnmappedPixel || !formula(depth[c], z0, tol) ? kUnmappedPixel
+                                                                                                : predicted[c];
+        if (q == run_p && c <= c1) continue;
+        if (run_p != kUnmappedPixel)
+            out.push_back({row + uint32_t(run_begin), row + uint32_t(c), run_p >= 0 ? to_frame[run_p] : run_p});
+        run_p = q;
+        run_begin = c;
+    }
+    return out;
+}
+}  // namespace
+
+TEST(MaskRowKernels, TheDepthWindowIsTheDoubleFormulaForEveryFloatNearItsEnds)
+{
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> z(0.05, 12.0), t(0.0, 0.3);
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    size_t checked = 0;
+    for (int k = 0; k < 2000; ++k)
+    {
+        // Random depths and tolerances, and ones on float values (the ends exact).
+        double z0 = z(rng), tol = t(rng);
+        if (k % 4 == 1) z0 = double(float(z0));
+        if (k % 4 == 2) tol = 0.0;
+        if (k % 4 == 3) tol = double(float(tol));
+        const DepthWindow w = depthWindow(z0, tol);
+        ASSERT_TRUE(formula(w.lo, z0, tol) || w.lo > w.hi) << z0 << " " << tol;
+        for (float end : {float(z0 - tol), float(z0 + tol), w.lo, w.hi})
+        {
+            float d = end;
+            for (int s = 0; s < 4; ++s) d = std::nextafter(d, -kInf);
+            for (int s = 0; s < 9; ++s, d = std::nextafter(d, kInf), ++checked)
+                ASSERT_EQ(inWindow(d, w), formula(d, z0, tol)) << "z0 " << z0 << " tol " << tol << " d " << d;
+        }
+        for (float d : {0.f, -0.f, kInf, -kInf, std::numeric_limits<float>::quiet_NaN(), float(z0)})
+            ASSERT_EQ(inWindow(d, w), formula(d, z0, tol)) << d;
+    }
+    EXPECT_GT(checked, 70000u);
+    // Hand-checked: 2 m with a 5 cm tolerance. 1.95f = 1.95000005 and 2.05f = 2.04999995
+    // both pass; the floats beyond them (1.94999993, 2.05000019) do not: the window is
+    // exactly [1.95f, 2.05f].
+    const DepthWindow w = depthWindow(2.0, 0.05);
+    EXPECT_EQ(w.lo, 1.95f);
+    EXPECT_EQ(w.hi, 2.05f);
+    // A negative tolerance passes nothing.
+    const DepthWindow none = depthWindow(2.0, -1.0);
+    EXPECT_FALSE(inWindow(2.f, none));
+}
+
+TEST(MaskRowKernels, EveryVersionCutsARowIntoTheSameSpans)
+{
+    std::vector<MaskRowFn> kernels{&maskRowScalar};
+    if (MaskRowFn k = maskRowAvx2()) kernels.push_back(k);
+    if (MaskRowFn k = maskRowAvx512()) kernels.push_back(k);
+    std::printf("[measured] row kernels on this CPU: %zu (scalar%s%s)\n", kernels.size(),
+                maskRowAvx2() ? ", AVX2" : "", maskRowAvx512() ? ", AVX-512" : "");
+    std::mt19937 rng(11);
+    const int W = 100;
+    std::vector<int32_t> predicted(W);
+    std::vector<float> depth(W);
+    const std::vector<int32_t> to_frame{5, 3, 9, 0, 7};
+    size_t spans = 0;
+    for (int k = 0; k < 4000; ++k)
+    {
+        // Runs of one predicted index (band-local 0..4, -1 none, unmapped), depths
+        // around z0 with NaN, zero and infinite pixels, the tolerance's ends exactly.
+        const double z0 = 1.0 + 0.01 * (k % 300), tol = 0.05 * (1 + k % 3);
+        int32_t p = 0;
+        for (int c = 0; c < W; ++c)
+        {
+            if (rng() % 6 == 0) p = int32_t(rng() % 7) - 2;
+            predicted[size_t(c)] = p;
+            switch (rng() % 10)
+            {
+                case 0: depth[size_t(c)] = std::numeric_limits<float>::quiet_NaN(); break;
+                case 1: depth[size_t(c)] = 0.f; break;
+                case 2: depth[size_t(c)] = std::numeric_limits<float>::infinity(); break;
+                case 3: depth[size_t(c)] = float(z0 + (rng() % 2 ? tol : -tol)); break;
+                default: depth[size_t(c)] = float(z0 + (double(rng() % 1000) / 1000.0 - 0.5) * 4 * tol);
+            }
+        }
+        const int c0 = int(rng() % W), c1 = c0 + int(rng() % (W - c0));
+        const uint32_t row = 640u * uint32_t(k % 480);
+        const auto want = reference(predicted.data(), depth.data(), c0, c1, z0, tol, row, to_frame.data());
+        spans += want.size();
+        for (size_t v = 0; v < kernels.size(); ++v)
+        {
+            std::vector<MaskSpan> got(size_t(c1 - c0 + 2));
+            got.resize(kernels[v](predicted.data(), depth.data(), c0, c1, depthWindow(z0, tol), row, to_frame.data(),
+                                  got.data()));
+            ASSERT_EQ(got.size(), want.size()) << "kernel " << v << " case " << k;
+            for (size_t i = 0; i < want.size(); ++i)
+            {
+                ASSERT_EQ(got[i].begin, want[i].begin) << "kernel " << v << " case " << k << " span " << i;
+                ASSERT_EQ(got[i].end, want[i].end) << "kernel " << v << " case " << k << " span " << i;
+                ASSERT_EQ(got[i].predicted, want[i].predicted) << "kernel " << v << " case " << k << " span " << i;
+            }
+        }
+    }
+    EXPECT_GT(spans, 20000u);  // the cases do cut rows into many runs
+}
+
+}  // namespace pndt::test
