@@ -155,7 +155,7 @@ TEST(ThreadsIdentical, AnyThreadCountGivesTheSameMap)
     }
 }
 
-// The per-pixel kernels (projection, the run sums, predicted instances, vtou
+// The per-pixel kernels (projection, predicted instances, vtou
 // rows) in every version this CPU has give the scalar code's map, at 10 and 5 cm,
 // with one and three threads.
 TEST(ThreadsIdentical, EverySimdVersionGivesTheScalarMap)

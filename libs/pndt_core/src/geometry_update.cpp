@@ -227,7 +227,6 @@ void PanopticMap::projectBand(const FramePixels& f, const Pose& T, int b, int B)
     band.rows[0].resize(W);
     band.rows[1].resize(W);
     const ProjectRowFn projectRow = bestProjectRow();
-    const RunBlocksFn runBlocks = bestRunBlocks();
     // Spans only for several bands (the histogram tasks of one band walk the
     // pixels). At most one per pixel: reserved once per image size, never grown.
     const bool keep_spans = B > 1;
@@ -280,21 +279,6 @@ void PanopticMap::projectBand(const FramePixels& f, const Pose& T, int b, int B)
             rn = 0;
             r_s0 = r_s1 = r_s2 = r_xx = r_xy = r_xz = r_yy = r_yz = r_zz = 0;
         };
-        // Pixel c joins the current run.
-        const auto add = [&](int c) {
-            const double qx = qxs[c], qy = qys[c], qz = qzs[c];
-            ++rn;
-            r_s0 += qx;
-            r_s1 += qy;
-            r_s2 += qz;
-            r_xx += qx * qx;
-            r_xy += qx * qy;
-            r_xz += qx * qz;
-            r_yy += qy * qy;
-            r_yz += qy * qz;
-            r_zz += qz * qz;
-            srow[c] = run_slot;
-        };
         for (int c = 0; c < W; ++c)
         {
             const uint64_t pk = keys[c];
@@ -336,25 +320,19 @@ void PanopticMap::projectBand(const FramePixels& f, const Pose& T, int b, int B)
                     prev_key = last_key;
                     prev_slot = last_slot;
                 }
-                // The run's pixels after this one in whole blocks of 8 (SIMD sums,
-                // the same integers), the rest one by one below.
-                if (runBlocks && c + 9 <= W)
-                {
-                    double sums[9] = {r_s0, r_s1, r_s2, r_xx, r_xy, r_xz, r_yy, r_yz, r_zz};
-                    const int taken = runBlocks(keys + c + 1, qxs + c + 1, qys + c + 1, qzs + c + 1, W - c - 1, pk,
-                                                run_slot, srow + c + 1, sums);
-                    if (taken > 0)
-                    {
-                        r_s0 = sums[0], r_s1 = sums[1], r_s2 = sums[2], r_xx = sums[3], r_xy = sums[4];
-                        r_xz = sums[5], r_yy = sums[6], r_yz = sums[7], r_zz = sums[8];
-                        rn += uint32_t(taken);
-                        add(c);  // pixel c itself, then on after the blocks
-                        c += taken;
-                        continue;
-                    }
-                }
             }
-            add(c);
+            const double qx = qxs[c], qy = qys[c], qz = qzs[c];
+            ++rn;
+            r_s0 += qx;
+            r_s1 += qy;
+            r_s2 += qz;
+            r_xx += qx * qx;
+            r_xy += qx * qy;
+            r_xz += qx * qz;
+            r_yy += qy * qy;
+            r_yz += qy * qz;
+            r_zz += qz * qz;
+            srow[c] = run_slot;
         }
         flush(W);
         if (per_pixel)

@@ -233,92 +233,7 @@ ProjectRowFn projectRowAvx512()
     __builtin_cpu_init();
     return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") ? &projectRowAvx512Impl : nullptr;
 }
-
-__attribute__((target("avx2"))) static double sum4(__m256d v)
-{
-    const __m128d h = _mm_add_pd(_mm256_castpd256_pd128(v), _mm256_extractf128_pd(v, 1));
-    return _mm_cvtsd_f64(_mm_add_sd(h, _mm_unpackhi_pd(h, h)));
-}
-
-__attribute__((target("avx2"))) static int runBlocksAvx2Impl(const uint64_t* keys, const double* qx, const double* qy,
-                                                             const double* qz, int n, uint64_t key, int32_t slot,
-                                                             int32_t* slots, double* sums)
-{
-    const __m256i k = _mm256_set1_epi64x(int64_t(key));
-    const __m256i sl = _mm256_set1_epi32(slot);
-    __m256d a[9];
-    for (auto& v : a) v = _mm256_setzero_pd();
-    int c = 0;
-    for (; c + 8 <= n; c += 8)
-    {
-        const __m256i e0 = _mm256_cmpeq_epi64(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(keys + c)), k);
-        const __m256i e1 = _mm256_cmpeq_epi64(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(keys + c + 4)), k);
-        if (_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_and_si256(e0, e1))) != 0xF) break;
-        for (int h = 0; h < 8; h += 4)
-        {
-            const __m256d x = _mm256_loadu_pd(qx + c + h), y = _mm256_loadu_pd(qy + c + h), z = _mm256_loadu_pd(qz + c + h);
-            a[0] = _mm256_add_pd(a[0], x);
-            a[1] = _mm256_add_pd(a[1], y);
-            a[2] = _mm256_add_pd(a[2], z);
-            a[3] = _mm256_add_pd(a[3], _mm256_mul_pd(x, x));
-            a[4] = _mm256_add_pd(a[4], _mm256_mul_pd(x, y));
-            a[5] = _mm256_add_pd(a[5], _mm256_mul_pd(x, z));
-            a[6] = _mm256_add_pd(a[6], _mm256_mul_pd(y, y));
-            a[7] = _mm256_add_pd(a[7], _mm256_mul_pd(y, z));
-            a[8] = _mm256_add_pd(a[8], _mm256_mul_pd(z, z));
-        }
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(slots + c), sl);
-    }
-    if (c > 0)
-        for (int j = 0; j < 9; ++j) sums[j] += sum4(a[j]);
-    return c;
-}
-
-__attribute__((target("avx512f"))) static int runBlocksAvx512Impl(const uint64_t* keys, const double* qx,
-                                                                  const double* qy, const double* qz, int n,
-                                                                  uint64_t key, int32_t slot, int32_t* slots,
-                                                                  double* sums)
-{
-    const __m512i k = _mm512_set1_epi64(int64_t(key));
-    const __m256i sl = _mm256_set1_epi32(slot);
-    __m512d a[9];
-    for (auto& v : a) v = _mm512_setzero_pd();
-    int c = 0;
-    for (; c + 8 <= n; c += 8)
-    {
-        if (_mm512_cmpneq_epi64_mask(_mm512_loadu_si512(keys + c), k)) break;
-        const __m512d x = _mm512_loadu_pd(qx + c), y = _mm512_loadu_pd(qy + c), z = _mm512_loadu_pd(qz + c);
-        a[0] = _mm512_add_pd(a[0], x);
-        a[1] = _mm512_add_pd(a[1], y);
-        a[2] = _mm512_add_pd(a[2], z);
-        a[3] = _mm512_add_pd(a[3], _mm512_mul_pd(x, x));
-        a[4] = _mm512_add_pd(a[4], _mm512_mul_pd(x, y));
-        a[5] = _mm512_add_pd(a[5], _mm512_mul_pd(x, z));
-        a[6] = _mm512_add_pd(a[6], _mm512_mul_pd(y, y));
-        a[7] = _mm512_add_pd(a[7], _mm512_mul_pd(y, z));
-        a[8] = _mm512_add_pd(a[8], _mm512_mul_pd(z, z));
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(slots + c), sl);
-    }
-    if (c > 0)
-        for (int j = 0; j < 9; ++j)  // (not _mm512_reduce_add_pd: a GCC 12 warning)
-            sums[j] += sum4(_mm256_add_pd(_mm512_maskz_extractf64x4_pd(0xF, a[j], 0), _mm512_maskz_extractf64x4_pd(0xF, a[j], 1)));
-    return c;
-}
-
-RunBlocksFn runBlocksAvx2()
-{
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2") ? &runBlocksAvx2Impl : nullptr;
-}
-
-RunBlocksFn runBlocksAvx512()
-{
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx512f") ? &runBlocksAvx512Impl : nullptr;
-}
 #else
-RunBlocksFn runBlocksAvx2() { return nullptr; }
-RunBlocksFn runBlocksAvx512() { return nullptr; }
 void projectRowSse2(const ProjectionSetup& P, const double* a, const float* depth, int c0, int c1, RowBuffer& out)
 {
     projectRowScalar(P, a, depth, c0, c1, out);
@@ -349,14 +264,6 @@ SimdCap simdCap()
 }
 
 void setSimdCap(SimdCap cap) { g_simd_cap.store(int(cap), std::memory_order_relaxed); }
-
-RunBlocksFn bestRunBlocks()
-{
-    const SimdCap cap = simdCap();
-    if (const RunBlocksFn avx512 = runBlocksAvx512(); avx512 && cap == SimdCap::Avx512) return avx512;
-    if (const RunBlocksFn avx2 = runBlocksAvx2(); avx2 && cap >= SimdCap::Avx2) return avx2;
-    return nullptr;
-}
 
 ProjectRowFn bestProjectRow()
 {

@@ -65,18 +65,6 @@ void projectRowSse2(const ProjectionSetup& P, const double* row_a, const float* 
 ProjectRowFn projectRowAvx2();
 /// nullptr when the CPU (or the compiler) has no AVX-512 F and DQ.
 ProjectRowFn projectRowAvx512();
-/// Phase 2's common case, right after a run of voxel `key` began: whole blocks
-/// of 8 pixels from keys[0] on, all in that voxel, while there are. Adds their
-/// samples' sums (s0 s1 s2 xx xy xz yy yz zz) to `sums` and writes `slot` for
-/// them; returns the pixels taken (a multiple of 8, at most n). The sums are
-/// exact integers in doubles, so any order of additions gives the same bits.
-using RunBlocksFn = int (*)(const uint64_t* keys, const double* qx, const double* qy, const double* qz, int n,
-                            uint64_t key, int32_t slot, int32_t* slots, double* sums);
-/// nullptr when the CPU (or the compiler) has no AVX2 (AVX-512 F where it has it).
-RunBlocksFn bestRunBlocks();
-RunBlocksFn runBlocksAvx2();    ///< nullptr without AVX2
-RunBlocksFn runBlocksAvx512();  ///< nullptr without AVX-512 F
-
 /// The widest SIMD the per-pixel kernels may use (if the CPU has it):
 /// PNDT_PROJECTION_KERNEL=scalar|sse2|avx2 caps it, for tests and measurements.
 enum class SimdCap
