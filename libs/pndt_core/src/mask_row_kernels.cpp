@@ -27,6 +27,19 @@ inline void changeRun(int32_t q, int c, uint32_t row, const int32_t* to_frame, i
     run_begin = c;
 }
 
+/// Pixels [c0, c1] one at a time, continuing the run state.
+inline void scalarPixels(const int32_t* predicted, const float* depth, int c0, int c1, DepthWindow w, uint32_t row,
+                         const int32_t* to_frame, int32_t& run_p, int& run_begin, MaskSpan* out, uint32_t& n)
+{
+    for (int c = c0; c <= c1; ++c)
+    {
+        const int32_t p = predicted[c];
+        const float d = depth[c];
+        const int32_t q = p == kUnmappedPixel || !(w.lo <= d && d <= w.hi) ? kUnmappedPixel : p;
+        if (q != run_p) changeRun(q, c, row, to_frame, run_p, run_begin, out, n);
+    }
+}
+
 inline uint32_t closeRow(int c1, uint32_t row, const int32_t* to_frame, int32_t run_p, int run_begin, MaskSpan* out,
                          uint32_t n)
 {
@@ -61,13 +74,7 @@ uint32_t maskRowScalar(const int32_t* predicted, const float* depth, int c0, int
     uint32_t n = 0;
     int32_t run_p = kUnmappedPixel;
     int run_begin = 0;
-    for (int c = c0; c <= c1; ++c)
-    {
-        const int32_t p = predicted[c];
-        const float d = depth[c];
-        const int32_t q = p == kUnmappedPixel || !(w.lo <= d && d <= w.hi) ? kUnmappedPixel : p;
-        if (q != run_p) changeRun(q, c, row, to_frame, run_p, run_begin, out, n);
-    }
+    scalarPixels(predicted, depth, c0, c1, w, row, to_frame, run_p, run_begin, out, n);
     return closeRow(c1, row, to_frame, run_p, run_begin, out, n);
 }
 
@@ -101,13 +108,7 @@ __attribute__((target("avx2"))) static uint32_t maskRowAvx2Impl(const int32_t* p
                       to_frame, run_p, run_begin, out, n);
         }
     }
-    for (; c <= c1; ++c)
-    {
-        const int32_t p = predicted[c];
-        const float d = depth[c];
-        const int32_t q = p == kUnmappedPixel || !(w.lo <= d && d <= w.hi) ? kUnmappedPixel : p;
-        if (q != run_p) changeRun(q, c, row, to_frame, run_p, run_begin, out, n);
-    }
+    scalarPixels(predicted, depth, c, c1, w, row, to_frame, run_p, run_begin, out, n);  // the last < 8
     return closeRow(c1, row, to_frame, run_p, run_begin, out, n);
 }
 
