@@ -265,6 +265,111 @@ PNDT_AVX2 int blockSoftmaxAvx2(const float* semantic, size_t N, int C, size_t b0
     return skipped;
 }
 
+/// Eight pixels' classes (`class_of` their channels') as uint16, for two 8-lane channel vectors.
+PNDT_AVX2 inline void storeClasses16(uint16_t* sem, __m256i a_lo, __m256i a_hi, const int32_t* class_of)
+{
+    const __m256i lo = _mm256_i32gather_epi32(class_of, a_lo, 4), hi = _mm256_i32gather_epi32(class_of, a_hi, 4);
+    // packus interleaves the 128-bit halves; the permute puts the 16 values back in order.
+    const __m256i packed = _mm256_permute4x64_epi64(_mm256_packus_epi32(lo, hi), 0xD8);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(sem), packed);
+}
+
+/// blockPixelsAvx512 in 8 lanes (for CPUs without AVX-512), bit for bit its outputs. AVX2's 16
+/// registers hold half a sub-block: the max pass runs over each 32-pixel half in registers
+/// (4 × 8 lanes) and leaves max and argmax in L1 scratch; the class test then covers the whole
+/// 64-pixel sub-block (as every kernel's), and the exponentials run per half with the half's
+/// maxima and sums in registers. Returns false at the first sub-block with a non-finite logit.
+PNDT_AVX2 bool blockPixelsAvx2(const float* semantic, size_t N, int C, size_t b0, size_t n, bool softmax, float skip,
+                               int& skipped_last, float* __restrict mx, int32_t* __restrict am,
+                               const int32_t* class_of, uint16_t* __restrict sem, float* __restrict score)
+{
+    const int skipped_on_entry = skipped_last;
+    const float inf = std::numeric_limits<float>::infinity();
+    for (size_t s0 = 0; s0 < n; s0 += kSubBlock)
+    {
+        const float* base = semantic + b0 + s0;
+        __m256 acc = _mm256_setzero_ps();
+        for (size_t h = 0; h < kSubBlock; h += 32)
+        {
+            const float* first = base + h;
+            __m256 m0 = _mm256_loadu_ps(first), m1 = _mm256_loadu_ps(first + 8), m2 = _mm256_loadu_ps(first + 16),
+                   m3 = _mm256_loadu_ps(first + 24);
+            __m256 a0 = _mm256_setzero_ps(), a1 = a0, a2 = a0, a3 = a0;  // channel ids as float bits
+            acc = _mm256_add_ps(acc, _mm256_add_ps(_mm256_add_ps(m0, m1), _mm256_add_ps(m2, m3)));
+            prefetchNextBlock(first);
+            prefetchNextBlock(first + 16);
+            for (int c = 1; c < C; ++c)
+            {
+                const float* p = first + size_t(c) * N;
+                prefetchNextBlock(p);
+                prefetchNextBlock(p + 16);
+                const __m256 id = _mm256_castsi256_ps(_mm256_set1_epi32(c));
+                const __m256 v0 = _mm256_loadu_ps(p), v1 = _mm256_loadu_ps(p + 8), v2 = _mm256_loadu_ps(p + 16),
+                             v3 = _mm256_loadu_ps(p + 24);
+                a0 = _mm256_blendv_ps(a0, id, _mm256_cmp_ps(v0, m0, _CMP_GT_OQ));
+                a1 = _mm256_blendv_ps(a1, id, _mm256_cmp_ps(v1, m1, _CMP_GT_OQ));
+                a2 = _mm256_blendv_ps(a2, id, _mm256_cmp_ps(v2, m2, _CMP_GT_OQ));
+                a3 = _mm256_blendv_ps(a3, id, _mm256_cmp_ps(v3, m3, _CMP_GT_OQ));
+                m0 = _mm256_max_ps(v0, m0);
+                m1 = _mm256_max_ps(v1, m1);
+                m2 = _mm256_max_ps(v2, m2);
+                m3 = _mm256_max_ps(v3, m3);
+                acc = _mm256_add_ps(acc, _mm256_add_ps(_mm256_add_ps(v0, v1), _mm256_add_ps(v2, v3)));
+            }
+            float* m = mx + s0 + h;
+            _mm256_storeu_ps(m, m0);
+            _mm256_storeu_ps(m + 8, m1);
+            _mm256_storeu_ps(m + 16, m2);
+            _mm256_storeu_ps(m + 24, m3);
+            float* a = reinterpret_cast<float*>(am + s0 + h);
+            _mm256_storeu_ps(a, a0);
+            _mm256_storeu_ps(a + 8, a1);
+            _mm256_storeu_ps(a + 16, a2);
+            _mm256_storeu_ps(a + 24, a3);
+            storeClasses16(sem + s0 + h, _mm256_castps_si256(a0), _mm256_castps_si256(a1), class_of);
+            storeClasses16(sem + s0 + h + 16, _mm256_castps_si256(a2), _mm256_castps_si256(a3), class_of);
+        }
+        // Finite iff acc − acc == 0 in every lane (inf − inf and NaN give NaN).
+        const __m256 z = _mm256_sub_ps(acc, acc);
+        if (_mm256_movemask_ps(_mm256_cmp_ps(z, z, _CMP_UNORD_Q)) != 0)
+        {
+            skipped_last = skipped_on_entry;
+            return false;
+        }
+        if (!softmax) continue;
+        const float sub_skip = skipped_last > 0 || (s0 / kSubBlock) % 4 == 0 ? skip : inf;
+        // One pass over the channels as in blockPixelsAvx512; the sums live in eight registers
+        // or spill to L1, which costs less than a second read of the channels.
+        const float* m = mx + s0;
+        __m256 e[8];
+        for (int k = 0; k < 8; ++k) e[k] = _mm256_setzero_ps();
+        int skipped = 0;
+        const __m256 limit = _mm256_set1_ps(-sub_skip);
+        for (int c = 0; c < C; ++c)
+        {
+            const float* p = base + size_t(c) * N;
+            __m256 d[8];
+            for (int k = 0; k < 8; ++k) d[k] = _mm256_sub_ps(_mm256_loadu_ps(p + 8 * k), _mm256_loadu_ps(m + 8 * k));
+            // Every lane below −skip (a finite sub-block: no NaN to mislead the compare).
+            if (sub_skip < inf)
+            {
+                const __m256 dm = _mm256_max_ps(_mm256_max_ps(_mm256_max_ps(d[0], d[1]), _mm256_max_ps(d[2], d[3])),
+                                                _mm256_max_ps(_mm256_max_ps(d[4], d[5]), _mm256_max_ps(d[6], d[7])));
+                if (_mm256_movemask_ps(_mm256_cmp_ps(dm, limit, _CMP_GE_OQ)) == 0)
+                {
+                    ++skipped;
+                    continue;
+                }
+            }
+            for (int k = 0; k < 8; ++k) e[k] = _mm256_add_ps(e[k], exp8(d[k]));
+        }
+        const __m256 one = _mm256_set1_ps(1.f);
+        for (int k = 0; k < 8; ++k) _mm256_storeu_ps(score + s0 + 8 * k, _mm256_div_ps(one, e[k]));
+        skipped_last = skipped;
+    }
+    return true;
+}
+
 bool cpuHasAvx2()
 {
     static const bool yes = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
@@ -462,6 +567,68 @@ PNDT_AVX512 size_t groupRunAvx512(const GroupingView& g, size_t i, size_t n, siz
     return done;
 }
 
+/// groupRunAvx512 in 8 lanes, for CPUs without AVX-512 (the same operations). Returns the
+/// pixels done (a multiple of 8).
+template <class Search, class Vote>
+PNDT_AVX2 size_t groupRunAvx2(const GroupingView& g, size_t i, size_t n, size_t x, size_t W, uint32_t y,
+                              Search&& search, Vote&& vote)
+{
+    const __m256 iota = _mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7);
+    const __m256i several = _mm256_set1_epi32(int32_t(kSeveral));
+    size_t done = 0;
+    for (; i + 8 <= n && x + 8 <= W; i += 8, x += 8, done += 8)
+    {
+        __m256i thing = _mm256_setzero_si256();
+        if (g.any_centre)
+        {
+            const __m256i am = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(g.am + (i - g.b0)));
+            thing = _mm256_cmpgt_epi32(_mm256_i32gather_epi32(g.is_thing, am, 4), _mm256_setzero_si256());
+        }
+        const unsigned things = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(thing)));
+        __m256i z = _mm256_setzero_si256();
+        if (things)
+        {
+            __m256 sdx = _mm256_mul_ps(_mm256_set1_ps(g.scale), _mm256_loadu_ps(g.dx + i));
+            __m256 sdy = _mm256_mul_ps(_mm256_set1_ps(g.scale), _mm256_loadu_ps(g.dy + i));
+            asm("" : "+x"(sdx), "+x"(sdy));  // as the scalar code: round the product, then add
+            const __m256 vx = _mm256_add_ps(_mm256_add_ps(_mm256_set1_ps(float(x)), iota), sdx);
+            const __m256 vy = _mm256_add_ps(_mm256_set1_ps(float(y)), sdy);
+            const __m256 gx = _mm256_mul_ps(_mm256_sub_ps(vx, _mm256_set1_ps(g.grid_x0)), _mm256_set1_ps(g.inv_cell));
+            const __m256 gy = _mm256_mul_ps(_mm256_sub_ps(vy, _mm256_set1_ps(g.grid_y0)), _mm256_set1_ps(g.inv_cell));
+            const __m256 zero = _mm256_setzero_ps();
+            const __m256 in = _mm256_and_ps(
+                _mm256_and_ps(_mm256_and_ps(_mm256_cmp_ps(gx, zero, _CMP_GE_OQ),
+                                            _mm256_cmp_ps(gx, _mm256_set1_ps(g.grid_w), _CMP_LT_OQ)),
+                              _mm256_and_ps(_mm256_cmp_ps(gy, zero, _CMP_GE_OQ),
+                                            _mm256_cmp_ps(gy, _mm256_set1_ps(g.grid_h), _CMP_LT_OQ))),
+                _mm256_castsi256_ps(thing));
+            const __m256i cell = _mm256_add_epi32(_mm256_mullo_epi32(_mm256_cvttps_epi32(gy), _mm256_set1_epi32(g.grid_cols)),
+                                                  _mm256_cvttps_epi32(gx));
+            z = _mm256_mask_i32gather_epi32(several, reinterpret_cast<const int*>(g.grid_single), cell,
+                                            _mm256_castps_si256(in), 4);
+            z = _mm256_and_si256(z, thing);
+            const unsigned ask =
+                unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(z, several)))) & things;
+            alignas(32) uint32_t zl[8];
+            _mm256_store_si256(reinterpret_cast<__m256i*>(zl), z);
+            if (ask)
+            {
+                alignas(32) float vxl[8], vyl[8];
+                _mm256_store_ps(vxl, vx);
+                _mm256_store_ps(vyl, vy);
+                for (int l = 0; l < 8; ++l)
+                    if (ask >> l & 1) zl[l] = search(vxl[l], vyl[l]);
+                z = _mm256_load_si256(reinterpret_cast<const __m256i*>(zl));
+            }
+            for (int l = 0; l < 8; ++l)
+                if (things >> l & 1) vote(zl[l], g.sem[i + size_t(l)]);
+        }
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(g.inst + i), z);
+        _mm256_storeu_ps(g.pan + i, _mm256_mul_ps(_mm256_loadu_ps(g.score + i), _mm256_i32gather_ps(g.centre_score, z, 4)));
+    }
+    return done;
+}
+
 bool cpuHasAvx512()
 {
     static const bool yes = __builtin_cpu_supports("avx512f") && cpuHasAvx2();
@@ -537,7 +704,13 @@ void PanopticPostprocessor::run(const PanopticTensors& t, PanopticFrame& out)
                                        sem, score);
             fused = true;
         }
-        else if (avx2)
+        else if (avx2 && n % kSubBlock == 0)
+        {
+            finite = blockPixelsAvx2(t.semantic, N, C, b0, n, logits, skip, skipped_last, mx, am, channel_class_.data(),
+                                     sem, score);
+            fused = true;
+        }
+        else if (avx2)  // a last block of a whole number of 8-pixel vectors, not of sub-blocks
             finite = blockMaxAvx2(t.semantic, N, C, b0, n, mx, am);
         else
 #endif
@@ -774,12 +947,14 @@ void PanopticPostprocessor::groupBlock(const PanopticTensors& t, size_t b0, size
     // Each thing pixel votes for the point pixel + offset; it joins the centre nearest to it:
     // the grid cell's only candidate, else a search. (Stuff pixels branch away: on a network's
     // output they come in long runs, and they need neither their offsets nor a vote; with
-    // AVX-512 such runs go 16 pixels a step.)
+    // AVX-512 such runs go 16 pixels a step, with AVX2 8.)
     size_t x = b0 % W, y = b0 / W;  // walked, not divided per pixel
 #if PNDT_HAVE_AVX2_KERNEL
-    const bool fast = options_.kernel == PostprocessOptions::Kernel::Best && W >= 16 && cpuHasAvx512();
+    using Kernel = PostprocessOptions::Kernel;
+    const bool fast512 = options_.kernel == Kernel::Best && W >= 16 && cpuHasAvx512();
+    const bool fast2 = !fast512 && options_.kernel != Kernel::Scalar && W >= 8 && cpuHasAvx2();
     GroupingView view{};
-    if (fast)
+    if (fast512 || fast2)
     {
         view = {am, b0, channel_is_thing_.data(), any_centre, dx, dy, s, grid_x0_, grid_y0_, inv, gw, gh, grid_w_,
                 grid_single_.data(), sem, score, centre_score_.data(), inst, pan};
@@ -794,9 +969,10 @@ void PanopticPostprocessor::groupBlock(const PanopticTensors& t, size_t b0, size
     {
         const size_t j = b0 + i;
 #if PNDT_HAVE_AVX2_KERNEL
-        if (fast && j % 16 == 0)
+        if ((fast512 && j % 16 == 0) || (fast2 && j % 8 == 0))
         {
-            const size_t done = groupRunAvx512(view, j, b0 + n, x, W, uint32_t(y), search, vote);
+            const size_t done = fast512 ? groupRunAvx512(view, j, b0 + n, x, W, uint32_t(y), search, vote)
+                                        : groupRunAvx2(view, j, b0 + n, x, W, uint32_t(y), search, vote);
             if (done)
             {
                 i += done - 1;  // the loop's ++i

@@ -27,8 +27,9 @@ struct PostprocessOptions
     /// T = ln((classes − 1) / score_tolerance) is skipped (its e^(l − l_max) < e^−T), so S^L is
     /// at most that fraction too high (plus < 3e-6 from the polynomial exp). 0 = never skip.
     float score_tolerance = 1e-4f;
-    /// Widest vector kernel the pixel pass may use (the CPU's best by default). All give the
-    /// same labels and scores bit for bit; narrower ones are for measurements and tests.
+    /// Widest vector kernel the pixel pass may use (the CPU's best by default). AVX-512 and
+    /// AVX2 give the same labels and scores bit for bit, the scalar one the same labels and the
+    /// scores to the polynomial exp's rounding; narrower ones are for measurements and tests.
     enum class Kernel
     {
         Best,
