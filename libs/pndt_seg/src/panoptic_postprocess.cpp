@@ -265,7 +265,7 @@ PNDT_AVX2 int blockSoftmaxAvx2(const float* semantic, size_t N, int C, size_t b0
     return skipped;
 }
 
-/// Eight pixels' classes (`class_of` their channels') as uint16, for two 8-lane channel vectors.
+/// Sixteen pixels' classes (`class_of` their channels') as uint16, from two 8-lane channel vectors.
 PNDT_AVX2 inline void storeClasses16(uint16_t* sem, __m256i a_lo, __m256i a_hi, const int32_t* class_of)
 {
     const __m256i lo = _mm256_i32gather_epi32(class_of, a_lo, 4), hi = _mm256_i32gather_epi32(class_of, a_hi, 4);
@@ -276,9 +276,9 @@ PNDT_AVX2 inline void storeClasses16(uint16_t* sem, __m256i a_lo, __m256i a_hi, 
 
 /// blockPixelsAvx512 in 8 lanes (for CPUs without AVX-512), bit for bit its outputs. AVX2's 16
 /// registers hold half a sub-block: the max pass runs over each 32-pixel half in registers
-/// (4 × 8 lanes) and leaves max and argmax in L1 scratch; the class test then covers the whole
-/// 64-pixel sub-block (as every kernel's), and the exponentials run per half with the half's
-/// maxima and sums in registers. Returns false at the first sub-block with a non-finite logit.
+/// (4 × 8 lanes) and leaves max and argmax in L1 scratch; then one pass over the channels per
+/// 64-pixel sub-block does the class test and the exponentials, as blockPixelsAvx512 does.
+/// Returns false at the first sub-block with a non-finite logit.
 PNDT_AVX2 bool blockPixelsAvx2(const float* semantic, size_t N, int C, size_t b0, size_t n, bool softmax, float skip,
                                int& skipped_last, float* __restrict mx, int32_t* __restrict am,
                                const int32_t* class_of, uint16_t* __restrict sem, float* __restrict score)
