@@ -1,21 +1,39 @@
 #!/usr/bin/env bash
 # Installs the build into a temporary prefix, then configures, builds and runs an outside project
 # (tests/install/consumer) against it with find_package(PanopticNDT) only.
-# Usage: run_consumer.sh BUILD_DIR CONSUMER_SOURCE_DIR
+# With --deb the prefix is the Debian package instead: `cpack -G DEB`, its control fields checked,
+# then unpacked (dpkg-deb -x) and used as the prefix.
+# Usage: run_consumer.sh BUILD_DIR CONSUMER_SOURCE_DIR [--deb]
 set -euo pipefail
 BUILD=$1
 SRC=$2
+MODE=${3:-install}
 WORK=$(mktemp -d "${TMPDIR:-/tmp}/pndt-install-test.XXXXXX")
 trap 'rm -rf "$WORK"' EXIT
-cmake --install "$BUILD" --prefix "$WORK/prefix" > "$WORK/install.log"
+if [ "$MODE" = --deb ]; then
+  (cd "$WORK" && cpack -G DEB --config "$BUILD/CPackConfig.cmake" -B "$WORK/pkg" > "$WORK/cpack.log" 2>&1) \
+    || { cat "$WORK/cpack.log" >&2; exit 1; }
+  DEB=$(ls "$WORK"/pkg/panopticndt_*.deb)
+  [ "$(dpkg-deb -f "$DEB" Package)" = panopticndt ] || { echo "package name: $(dpkg-deb -f "$DEB" Package)" >&2; exit 1; }
+  DEPENDS=$(dpkg-deb -f "$DEB" Depends)
+  # The -dev packages find_package needs, and runtime libraries found by dpkg-shlibdeps.
+  for dep in libmrpt-dev libceres-dev libopencv-dev libc6 libstdc++6 libmrpt-maps; do
+    case "$DEPENDS" in *"$dep"*) ;; *) echo "$DEB: Depends lacks $dep: $DEPENDS" >&2; exit 1 ;; esac
+  done
+  dpkg-deb -x "$DEB" "$WORK/root"
+  PREFIX="$WORK/root/usr"
+else
+  cmake --install "$BUILD" --prefix "$WORK/prefix" > "$WORK/install.log"
+  PREFIX="$WORK/prefix"
+fi
 for f in include/pndt/build_config.h include/pndt/panoptic_map.h lib/libpndt_mrpt_plugin.so \
          lib/cmake/PanopticNDT/PanopticNDTConfig.cmake bin/pndt-map share/panopticndt/config/panoptic_ndt.ini; do
-  [ -e "$WORK/prefix/$f" ] || { echo "not installed: $f" >&2; exit 1; }
+  [ -e "$PREFIX/$f" ] || { echo "not installed: $f" >&2; exit 1; }
 done
-cmake -S "$SRC" -B "$WORK/build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$WORK/prefix" > "$WORK/configure.log" \
+cmake -S "$SRC" -B "$WORK/build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$PREFIX" > "$WORK/configure.log" \
   || { cat "$WORK/configure.log" >&2; exit 1; }
 cmake --build "$WORK/build" > "$WORK/build.log" || { cat "$WORK/build.log" >&2; exit 1; }
 "$WORK/build/consumer"
 # The installed app finds its installed config (not the source tree's).
-"$WORK/prefix/bin/pndt-map" --help > /dev/null
-echo "installed into $WORK/prefix, consumer built and run"
+"$PREFIX/bin/pndt-map" --help > /dev/null
+echo "installed into $PREFIX ($MODE), consumer built and run"
