@@ -67,14 +67,14 @@ if [ "$WHAT" = asan ] || [ "$WHAT" = asan-ci ] || [ "$WHAT" = all ]; then
     # Left out (doc/hardening.md, "Sanitizers"): NoAllocation.* (replaces operator new, which
     # ASan owns); the tests that run stock MRPT executables (rawlog-edit, RawLogViewer) on our
     # plugin, which cannot load a library built with -fsanitize=address ("ASan runtime does not
-    # come first"); install_consumer (builds a project without the sanitizer flags against
+    # come first"); install_consumer and install_deb_consumer (build a project without the sanitizer flags against
     # these libraries); PluginView.VisualizationAndText (gcc's UBSan reports MRPT's own
     # CEllipsoid3D constructor, mrpt/opengl/CEllipsoid3D.h:39, as misaligned, with make_shared
     # and with new alike; clang's does not; UBSan suppressions need recoverable checks);
     # LiveCli.MrptAndOpenni2Backends* (compares two live runs that must each keep up with the
     # 30 Hz virtual camera: under ASan MRPT's grabber falls behind and maps other frames).
     ctest --test-dir $B --output-on-failure -j"$JOBS" --timeout 1500 \
-        -E 'NoAllocation\.|MrptTools\.|MapObservation\.Stock|RawlogEditReadsTheWrittenMaps|MapRawlog\.(ACrashLeaves|PndtMapOutputIsListed|PndtMapKilledMidRun)|install_consumer|PluginView\.VisualizationAndText|LiveCli\.MrptAndOpenni2Backends'
+        -E 'NoAllocation\.|MrptTools\.|MapObservation\.Stock|RawlogEditReadsTheWrittenMaps|MapRawlog\.(ACrashLeaves|PndtMapOutputIsListed|PndtMapKilledMidRun)|install_(deb_)?consumer|PluginView\.VisualizationAndText|LiveCli\.MrptAndOpenni2Backends'
 fi
 
 if [ "$WHAT" = tsan ] || [ "$WHAT" = all ]; then
