@@ -39,6 +39,42 @@ inline uint32_t markSpan(uint64_t* bits, uint32_t a, uint32_t b)
     bits[wb] |= last;
     return fresh;
 }
+
+/// markSpan over spans [sp, end): each span's fresh pixels counted into inter[its prediction];
+/// returns them all.
+[[gnu::always_inline]] inline uint64_t markSpansImpl(uint64_t* bits, const MaskSpan* sp, const MaskSpan* end,
+                                                     uint64_t* inter)
+{
+    uint64_t area = 0;
+    for (; sp < end; ++sp)
+    {
+        const uint32_t fresh = markSpan(bits, sp->begin, sp->end);
+        area += fresh;
+        inter[sp->predicted] += fresh;
+    }
+    return area;
+}
+using MarkSpansFn = uint64_t (*)(uint64_t*, const MaskSpan*, const MaskSpan*, uint64_t*);
+uint64_t markSpansPortable(uint64_t* bits, const MaskSpan* sp, const MaskSpan* end, uint64_t* inter)
+{
+    return markSpansImpl(bits, sp, end, inter);
+}
+#if defined(__x86_64__) && defined(__GNUC__)
+// The baseline x86-64 build has no popcnt instruction: the bit counts were calls into libgcc's
+// software popcount (8 % of matching's samples at 10 cm). Every CPU with AVX2 has popcnt.
+[[gnu::target("popcnt")]] uint64_t markSpansPopcnt(uint64_t* bits, const MaskSpan* sp, const MaskSpan* end,
+                                                   uint64_t* inter)
+{
+    return markSpansImpl(bits, sp, end, inter);
+}
+MarkSpansFn bestMarkSpans()
+{
+    static const bool popcnt = __builtin_cpu_supports("popcnt");
+    return popcnt && simdCap() != SimdCap::Scalar ? markSpansPopcnt : markSpansPortable;
+}
+#else
+MarkSpansFn bestMarkSpans() { return markSpansPortable; }
+#endif
 }  // namespace
 
 void PanopticMap::predictedBand(const FramePixels& f, int band, int bands)
@@ -220,6 +256,7 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
     const auto size = [&](uint32_t gi) { return s.groups[gi].second - s.groups[gi].first; };
     std::sort(s.mask_order.begin(), s.mask_order.end(),
               [&](uint32_t a, uint32_t b) { return size(a) != size(b) ? size(a) > size(b) : a < b; });
+    const MarkSpansFn mark_spans = bestMarkSpans();
     const auto mask = [&](int task, int thread) {
         const size_t gi = s.mask_order[size_t(task / pieces)];
         const int piece = task % pieces, row_begin = H * piece / pieces, row_end = H * (piece + 1) / pieces;
@@ -242,14 +279,12 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
             }
             return {sp, end};
         };
+        // Pixels not in this mask yet: a word (64 pixels) at a time.
         for (size_t c = s.groups[gi].first; c < s.groups[gi].second; ++c)
-            for (auto [sp, end] = spans(s.candidates[c].thing); sp < end; ++sp)
-            {
-                // Pixels not in this mask yet: a word (64 pixels) at a time.
-                const uint32_t fresh = markSpan(bits, sp->begin, sp->end);
-                area += fresh;
-                inter[sp->predicted] += fresh;
-            }
+        {
+            const auto [sp, end] = spans(s.candidates[c].thing);
+            area += mark_spans(bits, sp, end, inter);
+        }
         // Clear the mask's bits for the next one: the words its spans touched.
         for (size_t c = s.groups[gi].first; c < s.groups[gi].second; ++c)
             for (auto [sp, end] = spans(s.candidates[c].thing); sp < end; ++sp)
