@@ -224,12 +224,43 @@ void PanopticMap::histogramTask(const FramePixels& f, int task)
     // Spans and pixels hold their band's local slot and predicted index:
     // translated with the remaps of their band (identity for band 0).
     const int32_t* predicted_of = nullptr;
+    // Float weights: a voxel's runs wait in its slot record while the pass is elsewhere
+    // (continued when the next row comes back to it, flushed at the end); quantised ones
+    // round at each flush, so their runs end at every voxel change, as the one-band walk's.
+    const auto parkRuns = [&] {
+        if (!cur_records) return;
+        SlotRecords& r = *cur_records;
+        r.run_l = run_l;
+        r.run_li = int8_t(run_li);
+        r.run_lw = run_lw;
+        r.run_nl = run_nl;
+        r.run_z = run_z;
+        r.run_zi = int8_t(run_zi);
+        r.run_zw = run_zw;
+        r.run_nz = run_nz;
+    };
+    const auto resumeRuns = [&](const SlotRecords& r) {
+        run_l = r.run_l;
+        run_li = r.run_li;
+        run_lw = r.run_lw;
+        run_nl = r.run_nl;
+        run_z = r.run_z;
+        run_zi = r.run_zi;
+        run_zw = r.run_zw;
+        run_nz = r.run_nz;
+    };
     // The voxel of frame slot `slot` becomes the current one.
     const auto enter = [&](uint32_t slot) {
-        flushSemantic();
-        flushInstance();
+        if constexpr (kQuantisedHistograms)
+        {
+            flushSemantic();
+            flushInstance();
+        }
+        else
+            parkRuns();
         cur = int32_t(slot);
         cur_records = &slot_records[slot];
+        if constexpr (!kQuantisedHistograms) resumeRuns(*cur_records);
         if (!cur_records->known)
         {
             // First pixel of this voxel in this frame: find its records.
@@ -341,6 +372,25 @@ void PanopticMap::histogramTask(const FramePixels& f, int task)
     }
     flushSemantic();
     flushInstance();
+    if constexpr (!kQuantisedHistograms)
+    {
+        // The runs parked in the task's other voxels.
+        if (cur_records)
+        {
+            cur_records->run_l = 0;
+            cur_records->run_z = 0;
+        }
+        for (uint32_t h = home_begin; h < home_end; ++h)
+        {
+            SlotRecords& r = slot_records[h];
+            if (!r.run_l && !r.run_z) continue;
+            resumeRuns(r);
+            rec = r.label;
+            inst = r.instance;
+            flushSemantic();
+            flushInstance();
+        }
+    }
     w.semantic_updates = semantic_updates;
     w.instance_updates = instance_updates;
 }

@@ -307,6 +307,15 @@ struct SlotRecords
     LabelRecord* label = nullptr;
     InstanceRecord* instance = nullptr;
     bool known = false;
+    /// The voxel's runs while the pass is in other voxels (float weights: a run goes on
+    /// across the voxel's rows and is flushed once, when its class or instance changes or
+    /// at the end of the pass; the same additions in the same order as a flush per row).
+    uint8_t run_l = 0;  ///< 0: no semantic run
+    int8_t run_li = 0;
+    int8_t run_zi = 0;
+    uint32_t run_z = 0;  ///< 0: no instance run
+    float run_lw = 0, run_zw = 0;
+    uint32_t run_nl = 0, run_nz = 0;
 };
 
 /// One histogram task: the voxels of one projection band, and the records it created.
