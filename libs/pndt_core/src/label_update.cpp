@@ -15,8 +15,9 @@
 // the same order as one add() per pixel - and the entry is moved to its sorted
 // place once at the end of the run, which is where per-pixel sorting would have
 // left it (the other entries do not change during the run). Float weights
-// then do not depend on where a run ends; quantised ones round once per run,
-// so runs end where the one-band walk's do.
+// then do not depend on where a run ends, so a voxel's runs go on across its
+// rows (parked in its slot record meanwhile); quantised ones round once per
+// run, so runs end at every voxel change, where the one-band walk's do.
 #include <algorithm>
 #include <cstring>
 #include <type_traits>
