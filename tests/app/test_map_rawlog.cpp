@@ -111,7 +111,10 @@ TEST(MapRawlog, InterleavedInputsAndMapsAreInTimeOrder)
         last = t;
         const auto map = std::dynamic_pointer_cast<CObservationPanopticMap>(o);
         order.push_back(map ? "M" + std::to_string(map->sequence) : std::to_string(int(t)));
-        if (map) EXPECT_EQ(map->sensorLabel, "MY_MAPS");
+        if (map)
+        {
+            EXPECT_EQ(map->sensorLabel, "MY_MAPS");
+        }
     }
     EXPECT_EQ(order, (std::vector<std::string>{"0", "1", "2", "M0", "3", "4", "5", "6", "M1", "7"}));
     const auto back = std::dynamic_pointer_cast<CObservationPanopticMap>(objs[8]);
@@ -169,7 +172,9 @@ TEST(MapRawlog, ACrashLeavesAReadablePrefixOfCompleteObjects)
         const auto objs = readAll(truncated(ends[k]));
         ASSERT_EQ(objs.size(), k + 1);
         if (const auto map = std::dynamic_pointer_cast<CObservationPanopticMap>(objs.back()))
+        {
             EXPECT_EQ(map->map->core().voxels().size(), m->core().voxels().size());
+        }
     }
     // The stock tool on a file cut inside the last map: 5 of the 6 objects.
     const std::string info = cli::run("rawlog-edit" + pluginArg() + " --info -i " +
@@ -326,7 +331,10 @@ TEST(MapRawlog, PndtMapKilledMidRunLeavesAReadableMapsRawlog)
         EXPECT_EQ(m->sequence, k);
         EXPECT_GT(mrpt::Clock::toDouble(m->timestamp), last);
         last = mrpt::Clock::toDouble(m->timestamp);
-        if (k < index.size()) EXPECT_EQ(m->map->core().voxels().size(), index[k]["voxels"].get<size_t>());
+        if (k < index.size())
+        {
+            EXPECT_EQ(m->map->core().voxels().size(), index[k]["voxels"].get<size_t>());
+        }
     }
     // And the stock tool agrees.
     const std::string info = cli::run("rawlog-edit" + pluginArg() + " --info -i " + (out / "maps.rawlog").string()).out;

@@ -44,7 +44,6 @@ TEST(NdtShape, CapDownWeightsOldSamples)
 
 TEST(NdtGaussian, MaximumLikelihoodPointOnALine)
 {
-    NdtShape s;
     NdtGaussian g;
     g.mean = {2, 0, 0};
     g.cov = Eigen::Vector3d(1, 4, 1).asDiagonal();

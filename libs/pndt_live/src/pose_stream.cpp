@@ -120,7 +120,8 @@ struct LineFeeder
     LineFormat format;
     app::PoseFrame frame;
     LivePoseBuffer* buffer;
-    std::string where, partial;
+    std::string where;
+    std::string partial{};  // a line not ended yet
     uint64_t line_no = 0;
 
     void bytes(const char* p, size_t n)

@@ -32,9 +32,9 @@ struct Assoc
 {
     Eigen::Vector3d p;           ///< camera frame
     double weight = 1;           ///< class weight
-    Eigen::Vector3d mu;          ///< associated Gaussian's mean (world)
-    Eigen::Matrix3d W;           ///< sqrt(weight) * L^T, info = L L^T
-    Eigen::Vector3d normal;      ///< the Gaussian's smallest-variance axis (degeneracy test)
+    Eigen::Vector3d mu = Eigen::Vector3d::Zero();      ///< associated Gaussian's mean (world)
+    Eigen::Matrix3d W = Eigen::Matrix3d::Zero();       ///< sqrt(weight) * L^T, info = L L^T
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< the Gaussian's smallest-variance axis (degeneracy test)
 };
 
 /// Searches the map Gaussian a world point belongs to; implemented by PoseRefiner::Impl.
