@@ -507,6 +507,18 @@ struct GroupingView
     float* pan;
 };
 
+/// The lane-by-lane part of the vector grouping kernels: lanes in `ask` (several candidate
+/// centres, or a vote outside the grid) search their centre, then every thing lane votes.
+template <int kLanes, class Search, class Vote>
+inline void searchAndVoteLanes(uint32_t* zl, const float* vxl, const float* vyl, unsigned ask, unsigned things,
+                               const uint16_t* sem, Search& search, Vote& vote)
+{
+    for (int l = 0; l < kLanes; ++l)
+        if (ask >> l & 1) zl[l] = search(vxl[l], vyl[l]);
+    for (int l = 0; l < kLanes; ++l)
+        if (things >> l & 1) vote(zl[l], sem[l]);
+}
+
 /// groupBlock's pixel loop, 16 pixels a step from image pixel i at (x, y) while a step stays
 /// in one row: thing pixels vote in a gather of their grid cells; cells with several candidate
 /// centres (and votes outside the grid) ask `search(vx, vy)`; votes are counted with `vote(z,
@@ -548,18 +560,15 @@ PNDT_AVX512 size_t groupRunAvx512(const GroupingView& g, size_t i, size_t n, siz
             z = _mm512_maskz_mov_epi32(things, z);
             const __mmask16 ask = _mm512_cmpeq_epi32_mask(z, several) & things;
             alignas(64) uint32_t zl[16];
+            alignas(64) float vxl[16], vyl[16];
             _mm512_store_si512(zl, z);
             if (ask)
             {
-                alignas(64) float vxl[16], vyl[16];
                 _mm512_store_ps(vxl, vx);
                 _mm512_store_ps(vyl, vy);
-                for (int l = 0; l < 16; ++l)
-                    if (ask >> l & 1) zl[l] = search(vxl[l], vyl[l]);
-                z = _mm512_load_si512(zl);
             }
-            for (int l = 0; l < 16; ++l)
-                if (things >> l & 1) vote(zl[l], g.sem[i + size_t(l)]);
+            searchAndVoteLanes<16>(zl, vxl, vyl, ask, things, g.sem + i, search, vote);
+            if (ask) z = _mm512_load_si512(zl);
         }
         _mm512_storeu_si512(g.inst + i, z);
         _mm512_storeu_ps(g.pan + i, _mm512_mul_ps(_mm512_loadu_ps(g.score + i), _mm512_i32gather_ps(z, g.centre_score, 4)));
@@ -610,18 +619,15 @@ PNDT_AVX2 size_t groupRunAvx2(const GroupingView& g, size_t i, size_t n, size_t 
             const unsigned ask =
                 unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(z, several)))) & things;
             alignas(32) uint32_t zl[8];
+            alignas(32) float vxl[8], vyl[8];
             _mm256_store_si256(reinterpret_cast<__m256i*>(zl), z);
             if (ask)
             {
-                alignas(32) float vxl[8], vyl[8];
                 _mm256_store_ps(vxl, vx);
                 _mm256_store_ps(vyl, vy);
-                for (int l = 0; l < 8; ++l)
-                    if (ask >> l & 1) zl[l] = search(vxl[l], vyl[l]);
-                z = _mm256_load_si256(reinterpret_cast<const __m256i*>(zl));
             }
-            for (int l = 0; l < 8; ++l)
-                if (things >> l & 1) vote(zl[l], g.sem[i + size_t(l)]);
+            searchAndVoteLanes<8>(zl, vxl, vyl, ask, things, g.sem + i, search, vote);
+            if (ask) z = _mm256_load_si256(reinterpret_cast<const __m256i*>(zl));
         }
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(g.inst + i), z);
         _mm256_storeu_ps(g.pan + i, _mm256_mul_ps(_mm256_loadu_ps(g.score + i), _mm256_i32gather_ps(g.centre_score, z, 4)));
