@@ -29,12 +29,41 @@ struct Shared  // what the device's streams read
     OniDeviceInfo info{};
     std::atomic<bool> unplugged{false};
     std::function<void()> on_unplug;
-    std::once_flag rendered;
+    std::once_flag rendered, clock_started;
+    std::chrono::steady_clock::time_point t0;  ///< device time 0
     /// Rendered at the first stream start (not at open: --list-devices opens devices too).
     const VirtualFrames& loop()
     {
         std::call_once(rendered, [this] { frames = renderLoop(config); });
         return frames;
+    }
+    /// The device clock, started by the first stream and shared by all: frame k of every stream
+    /// is raised at device time k / fps, as on a device whose streams are synchronised.
+    /// clock_file gets the host clock at device time 0, read between two readings of the
+    /// steady clock less than 0.2 ms apart: a thread preempted between the two clock reads
+    /// (33 ms once, on a loaded CI machine) put every host stamp a frame off.
+    std::chrono::steady_clock::time_point deviceClock()
+    {
+        std::call_once(clock_started, [this] {
+            double host0 = 0;
+            for (int attempt = 0; attempt < 1000; ++attempt)
+            {
+                const auto before = std::chrono::steady_clock::now();
+                host0 = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+                const auto after = std::chrono::steady_clock::now();
+                t0 = before + (after - before) / 2;
+                if (after - before < std::chrono::microseconds(200)) break;
+            }
+            if (config.clock_file.empty()) return;
+            const std::string tmp = config.clock_file + ".tmp";  // written, then renamed: all or nothing
+            if (FILE* f = std::fopen(tmp.c_str(), "w"))
+            {
+                std::fprintf(f, "%.6f\n", host0);
+                std::fclose(f);
+                std::rename(tmp.c_str(), config.clock_file.c_str());
+            }
+        });
+        return t0;
     }
 };
 
@@ -135,23 +164,15 @@ class VirtualStream : public oni::driver::StreamBase
     void run()
     {
         const auto& c = s_->config;
-        const auto t0 = std::chrono::steady_clock::now();
-        if (type_ == ONI_SENSOR_DEPTH && !c.clock_file.empty())
-        {
-            // The host clock at device time 0 (written, then renamed: readers see all or nothing).
-            const double host0 = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-            const std::string tmp = c.clock_file + ".tmp";
-            if (FILE* f = std::fopen(tmp.c_str(), "w"))
-            {
-                std::fprintf(f, "%.6f\n", host0);
-                std::fclose(f);
-                std::rename(tmp.c_str(), c.clock_file.c_str());
-            }
-        }
+        const auto t0 = s_->deviceClock();
+        const auto frame_time = [&](int64_t k) { return t0 + std::chrono::microseconds(k * 1000000 / c.fps); };
+        // A stream started later begins at the device's current frame (up to half a frame late).
+        int64_t k0 = 0;
+        while (frame_time(k0) + std::chrono::microseconds(500000 / c.fps) < std::chrono::steady_clock::now()) ++k0;
         const int W = c.width, H = c.height, bpp = bytesPerPixel();
-        for (int64_t k = 0; running_; ++k)
+        for (int64_t k = k0; running_; ++k)
         {
-            std::this_thread::sleep_until(t0 + std::chrono::microseconds(k * 1000000 / c.fps));
+            std::this_thread::sleep_until(frame_time(k));
             if (!running_) break;
             if (c.unplug_after > 0 && k >= c.unplug_after)
             {
