@@ -147,6 +147,18 @@ TEST(ThreadsIdentical, AnyThreadCountGivesTheSameMap)
     const Built one = build(d, o);
     ASSERT_GT(one.map.instanceRecords().size(), 10u);
     ASSERT_GT(one.totals.matched_instances, 10u);
+    // A frame's update counts (counted per run, not per pixel) are what its histograms
+    // gained: on the first frame, the sums of n_l and n_z.
+    {
+        PanopticMap first(o);
+        const FrameStats st = first.integrate(d.frames[0], d.poses[0]);
+        uint64_t n_l = 0, n_z = 0;
+        for (const LabelRecord& r : first.labelRecords()) n_l += r.n_l;
+        for (const InstanceRecord& r : first.instanceRecords()) n_z += r.n_z;
+        EXPECT_EQ(st.semantic_updates, n_l);
+        EXPECT_EQ(st.instance_updates, n_z);
+        EXPECT_GT(n_z, 10000u);
+    }
     for (int threads : {2, 3, 8})
     {
         SCOPED_TRACE(threads);

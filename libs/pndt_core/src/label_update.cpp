@@ -32,11 +32,11 @@ namespace
 /// Starts a run of updates of `id` with its first score: on id's entry (the
 /// run holds its weight plus the score, one update left for the flush to
 /// count), or as a new entry through add() (which may replace the smallest;
-/// the update is counted at once). Always inlined: as a call it takes the run's
+/// the update is counted at once, and 1 returned for the frame's total). Always inlined: as a call it takes the run's
 /// variables by address, which keeps them in memory (not registers) for the
 /// whole pixel loop.
 template <typename H, typename Id>
-[[gnu::always_inline]] inline void startRun(H& h, Id id, float score, uint32_t& updates, int& run_i, float& run_w,
+[[gnu::always_inline]] inline uint32_t startRun(H& h, Id id, float score, uint32_t& updates, int& run_i, float& run_w,
                                             uint32_t& run_n)
 {
     run_i = h.indexOf(id);
@@ -44,18 +44,21 @@ template <typename H, typename Id>
     {
         run_w = h.weight(run_i) + score;
         run_n = 1;
-        return;
+        return 0;
     }
     h.add(id, score);
     ++updates;
     run_i = h.indexOf(id);
     run_w = h.weight(run_i);
     run_n = 0;
+    return 1;
 }
 
 /// A pixel within the current run (or without an update): its score is added
-/// if it is an update, +0 otherwise, without a branch.
-inline void continueRun(bool take, float score, float& run_w, uint32_t& run_n, uint64_t& updates)
+/// if it is an update, +0 otherwise, without a branch. An update here is one
+/// of the run's (take implies the pixel's id is the run's): the frame's totals
+/// count them from run_n at the flush.
+inline void continueRun(bool take, float score, float& run_w, uint32_t& run_n)
 {
     // take ? score : +0 by masking the bits: compilers turned the select into a
     // branch, which noisy scores near the threshold mispredict (a third of the
@@ -67,7 +70,6 @@ inline void continueRun(bool take, float score, float& run_w, uint32_t& run_n, u
     std::memcpy(&masked, &bits, sizeof masked);
     run_w += masked;
     run_n += take;
-    updates += take;
 }
 
 }  // namespace
@@ -201,6 +203,7 @@ void PanopticMap::histogramTask(const FramePixels& f, int task)
         if (run_l == 0) return;
         rec->semantic.setWeight(run_li, run_lw);
         rec->n_l += run_nl;
+        semantic_updates += run_nl;
         rec->semantic.bubbleUp(run_li);
         run_l = 0;
     };
@@ -208,6 +211,7 @@ void PanopticMap::histogramTask(const FramePixels& f, int task)
         if (run_z == 0) return;
         inst->hist.setWeight(run_zi, run_zw);
         inst->n_z += run_nz;
+        instance_updates += run_nz;
         inst->hist.bubbleUp(run_zi);
         run_z = 0;
     };
@@ -289,10 +293,9 @@ void PanopticMap::histogramTask(const FramePixels& f, int task)
             // the common cases take no branch (adding +0 leaves a weight as it is).
             const bool take = (z != 0) & (sp > theta_z);
             if (!(take & (z != run_z)))
-                continueRun(take, sp, run_zw, run_nz, instance_updates);
+                continueRun(take, sp, run_zw, run_nz);
             else
             {
-                ++instance_updates;
                 flushInstance();
                 labelRecord();  // the label record links the instance record
                 if (!inst)
@@ -302,7 +305,7 @@ void PanopticMap::histogramTask(const FramePixels& f, int task)
                     inst = &w.instances.back();
                     cur_records->instance = inst;
                 }
-                startRun(inst->hist, z, sp, inst->n_z, run_zi, run_zw, run_nz);
+                instance_updates += startRun(inst->hist, z, sp, inst->n_z, run_zi, run_zw, run_nz);
                 run_z = z;
             }
         }
@@ -311,10 +314,9 @@ void PanopticMap::histogramTask(const FramePixels& f, int task)
         const float sl = sem_score[i];
         const bool take = (L != 0) & (sl > theta_l);
         if (!(take & (L != run_l)))
-            continueRun(take, sl, run_lw, run_nl, semantic_updates);
+            continueRun(take, sl, run_lw, run_nl);
         else
         {
-            ++semantic_updates;
             flushSemantic();
             LabelRecord& r = labelRecord();
             if (spill && r.semantic.size() == LabelRecord::kSemanticCapacity && r.semantic.indexOf(uint8_t(L)) < 0)
@@ -322,10 +324,11 @@ void PanopticMap::histogramTask(const FramePixels& f, int task)
                 // A ninth class: no eviction, it waits for the spill (no run).
                 w.spilled.push_back({uint32_t(cur), uint8_t(L), sl});
                 ++r.n_l;
+                ++semantic_updates;
             }
             else
             {
-                startRun(r.semantic, uint8_t(L), sl, r.n_l, run_li, run_lw, run_nl);
+                semantic_updates += startRun(r.semantic, uint8_t(L), sl, r.n_l, run_li, run_lw, run_nl);
                 run_l = uint8_t(L);
             }
         }
