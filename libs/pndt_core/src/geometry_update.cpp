@@ -224,7 +224,6 @@ struct RowRuns
     int32_t* srow;               ///< this row's slots (written)
     int W, r;
     uint32_t row_begin;
-    bool keep_spans;
     ProjectionBand* band;
     PixelSpan* span_out;
     uint64_t invalid, over, outside;
@@ -250,7 +249,6 @@ template <bool kFma>
     int32_t* const srow = io.srow;
     const int W = io.W, r = io.r;
     const uint32_t row_begin = io.row_begin;
-    const bool keep_spans = io.keep_spans;
     PixelSpan* span_out = io.span_out;
     uint64_t invalid = 0, over = 0, outside = 0;
     uint64_t run_key = kNoKey;
@@ -266,8 +264,7 @@ template <bool kFma>
     // A run's pixels are consecutive and mapped: [c_end - rn, c_end).
     const auto flush = [&](int c_end) {
         if (rn == 0) return;
-        if (keep_spans)
-            *span_out++ = {row_begin + uint32_t(c_end) - rn, row_begin + uint32_t(c_end), uint32_t(run_slot)};
+        *span_out++ = {row_begin + uint32_t(c_end) - rn, row_begin + uint32_t(c_end), uint32_t(run_slot)};
         band.last_row[size_t(run_slot)] = r;
         HitSlot& h = band.hits[size_t(run_slot)];
         h.count += rn;
@@ -294,11 +291,8 @@ template <bool kFma>
                 over += pk == kOverRangeKey;
                 outside += pk == kOutsideKey;
                 srow[c] = -1;
-                if (keep_spans)  // spans hold mapped pixels only; sums may run across a hole
-                {
-                    flush(c);
-                    run_key = kNoKey;
-                }
+                flush(c);  // spans hold mapped pixels only
+                run_key = kNoKey;
                 continue;
             }
             flush(c);
@@ -377,10 +371,9 @@ void PanopticMap::projectBand(const FramePixels& f, const Pose& T, int b, int B)
     band.rows[1].resize(W);
     const ProjectRowFn projectRow = bestProjectRow();
     const RowRunsFn runsOfRow = bestRowRuns();
-    // Spans only for several bands (the histogram tasks of one band walk the
-    // pixels). At most one per pixel: reserved once per image size, never grown.
-    const bool keep_spans = B > 1;
-    if (keep_spans) band.spans.reserve(size_t(r1 - r0) * W);
+    // Spans for the histogram pass (a row's pixels in one voxel). At most one
+    // per pixel: reserved once per image size, never grown.
+    band.spans.reserve(size_t(r1 - r0) * W);
     PixelSpan* const spans = band.spans.data();
     PixelSpan* span_out = spans;
 
@@ -397,7 +390,7 @@ void PanopticMap::projectBand(const FramePixels& f, const Pose& T, int b, int B)
         const int32_t* above = r > r0 ? srow - W : nullptr;
         const uint64_t* keys = row.key.data();
         const double *qxs = row.q[0].data(), *qys = row.q[1].data(), *qzs = row.q[2].data();
-        RowRuns rr{keys, qxs, qys, qzs, above_keys, above, srow, W, r, uint32_t(size_t(r) * W), keep_spans,
+        RowRuns rr{keys, qxs, qys, qzs, above_keys, above, srow, W, r, uint32_t(size_t(r) * W),
                    &band, span_out, 0, 0, 0};
         runsOfRow(rr);
         span_out = rr.span_out;

@@ -5,8 +5,8 @@
 // in one voxel) of its band and of the later bands, in raster order, down to
 // the last row its voxels reach, updating only its own voxels: another band's
 // voxel costs one test per span, not per pixel. So every voxel takes its pixels
-// in pixel order, whatever the number of bands; one band walks the pixels
-// directly. A voxel that needs a new record gets a temporary one from its task;
+// in pixel order, whatever the number of bands (one band: its own spans, with
+// no remap). A voxel that needs a new record gets a temporary one from its task;
 // the temporaries join the pools after the pass, in slot order.
 //
 // Runs: consecutive pixels of one voxel with the same class (instance) add
@@ -23,6 +23,7 @@
 #include <type_traits>
 
 #include "frame_pixels.h"
+#include "histogram_run_kernels.h"
 #include "map_scratch.h"
 
 namespace pndt
@@ -335,13 +336,38 @@ void PanopticMap::histogramTask(const FramePixels& f, int task)
     };
     if (s.band_count == 1)
     {
-        // One band (one thread): every pixel in raster order, no translation.
-        const int32_t* slots = s.pixel_slot.data();
-        for (uint32_t i = 0, n = uint32_t(size_t(W) * H); i < n; ++i)
+        // One band (one thread): its spans in raster order, no translation.
+        // Where the CPU has a block test, a span of 16 pixels or more starts
+        // with it: pixels that only continue the runs go 16 a step; after the
+        // first pixel that does not, the span goes on pixel by pixel (runs
+        // that break every few pixels would waste block after block).
+        const ContinueRunsFn continueRuns = bestContinueRuns();
+        RunBlockInputs in;
+        in.semantic = sem;
+        in.semantic_score = sem_score;
+        in.predicted = predicted;
+        in.decision = decision;
+        in.split_stamp = split_stamp;
+        in.split_id = split_id;
+        in.split_now = split_now;
+        in.panoptic_score = pan_score;
+        in.theta_l = theta_l;
+        in.theta_z = theta_z;
+        in.void_id = void_id;
+        for (const PixelSpan& span : s.bands[0].spans)
         {
-            if (slots[i] < 0) continue;
-            if (slots[i] != cur) enter(uint32_t(slots[i]));  // neighbouring pixels mostly share a voxel
-            update(i, std::false_type{});
+            if (int32_t(span.slot) != cur) enter(span.slot);
+            uint32_t i = span.begin;
+            if (continueRuns && span.end - i >= 16)
+            {
+                RunSums sums{run_z, run_l, run_zw, run_lw, run_nz, run_nl};
+                i = continueRuns(in, i, span.end, sums);
+                run_zw = sums.z_weight;
+                run_lw = sums.l_weight;
+                run_nz = sums.z_updates;
+                run_nl = sums.l_updates;
+            }
+            for (; i < span.end; ++i) update(i, std::false_type{});
         }
     }
     else
