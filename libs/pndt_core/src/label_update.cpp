@@ -33,9 +33,9 @@ namespace
 /// Starts a run of updates of `id` with its first score: on id's entry (the
 /// run holds its weight plus the score, one update left for the flush to
 /// count), or as a new entry through add() (which may replace the smallest;
-/// the update is counted at once, and 1 returned for the frame's total). Always inlined: as a call it takes the run's
-/// variables by address, which keeps them in memory (not registers) for the
-/// whole pixel loop.
+/// the update is counted at once, and 1 returned for the frame's total).
+/// Always inlined: as a call it takes the run's variables by address, which
+/// keeps them in memory (not registers) for the whole pixel loop.
 template <typename H, typename Id>
 [[gnu::always_inline]] inline uint32_t startRun(H& h, Id id, float score, uint32_t& updates, int& run_i, float& run_w,
                                             uint32_t& run_n)
