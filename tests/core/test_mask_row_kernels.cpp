@@ -3,6 +3,7 @@
 // row into the same spans as a plain loop over the formula.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -128,6 +129,79 @@ TEST(MaskRowKernels, EveryVersionCutsARowIntoTheSameSpans)
         }
     }
     EXPECT_GT(spans, 20000u);  // the cases do cut rows into many runs
+}
+
+TEST(MaskRowKernels, EveryFootprintVersionGivesTheRowByRowSpans)
+{
+    std::vector<MaskFootprintFn> kernels{&maskFootprintScalar};
+    if (MaskFootprintFn k = maskFootprintAvx2()) kernels.push_back(k);
+    if (MaskFootprintFn k = maskFootprintAvx512()) kernels.push_back(k);
+    std::mt19937 rng(13);
+    const int W = 64, H = 48;
+    std::vector<int32_t> predicted(size_t(W * H));
+    std::vector<float> depth(size_t(W * H));
+    // Two row bands with their own translations of the predicted indices.
+    const std::vector<int32_t> top{5, 3, 9, 0, 7}, bottom{2, 8, 1, 6, 4};
+    std::vector<const int32_t*> row_remap(static_cast<size_t>(H));
+    for (int r = 0; r < H; ++r) row_remap[size_t(r)] = r < H / 2 ? top.data() : bottom.data();
+    const double k2 = 3.0;
+    size_t spans = 0, rows_used = 0;
+    for (int k = 0; k < 600; ++k)
+    {
+        const double z0 = 2.0, tol = 0.1;
+        int32_t p = 0;
+        for (size_t i = 0; i < predicted.size(); ++i)
+        {
+            if (rng() % 5 == 0) p = int32_t(rng() % 7) - 2;
+            predicted[i] = p;
+            depth[i] = rng() % 8 == 0 ? std::numeric_limits<float>::quiet_NaN()
+                                      : float(z0 + (double(rng() % 1000) / 1000.0 - 0.5) * 3 * tol);
+        }
+        // An ellipse (or, every fourth case, a box) partly outside the image.
+        MaskFootprint fp;
+        fp.ellipse = k % 4 != 0;
+        fp.u0 = double(rng() % 80) - 8.0 + 0.37;
+        fp.v0 = double(rng() % 60) - 6.0 + 0.61;
+        const double sx = 1.0 + double(rng() % 200) / 10.0, sy = 1.0 + double(rng() % 200) / 10.0;
+        const double rho = (double(rng() % 180) - 90.0) / 100.0;
+        const double det = sx * sx * sy * sy * (1 - rho * rho);
+        fp.s00 = sy * sy / det;
+        fp.s01 = -rho * sx * sy / det;
+        fp.s11 = sx * sx / det;
+        fp.c0 = std::max(0, int(std::ceil(fp.u0 - std::sqrt(k2) * sx)));
+        fp.c1 = std::min(W - 1, int(std::floor(fp.u0 + std::sqrt(k2) * sx)));
+        fp.r0 = std::max(0, int(std::ceil(fp.v0 - std::sqrt(k2) * sy)));
+        fp.r1 = std::min(H - 1, int(std::floor(fp.v0 + std::sqrt(k2) * sy)));
+        fp.z0 = z0;
+        // What footprintSpans did before the footprint kernels: row by row.
+        std::vector<MaskSpan> want;
+        for (int r = fp.r0; r <= fp.r1; ++r)
+        {
+            int a, b;
+            if (!footprintRow(fp, r, k2, a, b)) continue;
+            ++rows_used;
+            const uint32_t row = uint32_t(r * W);
+            const auto part =
+                reference(&predicted[row], &depth[row], a, b, z0, tol, row, row_remap[size_t(r)]);
+            want.insert(want.end(), part.begin(), part.end());
+        }
+        spans += want.size();
+        for (size_t v = 0; v < kernels.size(); ++v)
+        {
+            std::vector<MaskSpan> got(size_t(W * H));
+            got.resize(kernels[v](fp, k2, predicted.data(), depth.data(), W, depthWindow(z0, tol), row_remap.data(),
+                                  got.data()));
+            ASSERT_EQ(got.size(), want.size()) << "kernel " << v << " case " << k;
+            for (size_t i = 0; i < want.size(); ++i)
+            {
+                ASSERT_EQ(got[i].begin, want[i].begin) << "kernel " << v << " case " << k << " span " << i;
+                ASSERT_EQ(got[i].end, want[i].end) << "kernel " << v << " case " << k << " span " << i;
+                ASSERT_EQ(got[i].predicted, want[i].predicted) << "kernel " << v << " case " << k << " span " << i;
+            }
+        }
+    }
+    EXPECT_GT(rows_used, 5000u);  // footprints of many rows, in both bands
+    EXPECT_GT(spans, 20000u);
 }
 
 }  // namespace pndt::test

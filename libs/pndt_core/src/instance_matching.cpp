@@ -208,7 +208,11 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
     s.thing_spans.resize(TV + 1);
     s.thing_span_count.resize(TV);
     const int thing_tasks = threads > 1 && TV >= 128 ? 4 * threads : 1;
-    s.mask_row = bestMaskRow();
+    s.mask_footprint = bestMaskFootprint();
+    const int H_rows = f.depth.height;
+    s.row_remap.resize(size_t(H_rows));
+    for (int r = 0; r < H_rows; ++r)
+        s.row_remap[size_t(r)] = s.predicted_bands[size_t(s.bandOfRow(r, H_rows))].remap.data();
     const auto footprints = [&](int t) {
         for (size_t u = TV * size_t(t) / size_t(thing_tasks), e = TV * size_t(t + 1) / size_t(thing_tasks); u < e; ++u)
         {
@@ -495,22 +499,11 @@ MaskFootprint PanopticMap::maskFootprint(uint32_t voxel, const Pose& T_cam_world
 uint32_t PanopticMap::footprintSpans(const MaskFootprint& fp, const FramePixels& f, MaskSpan* out)
 {
     Scratch& s = *scratch_;
-    const int W = f.depth.width, H = f.depth.height;
     const double tol = options_.vtou_depth_tolerance * options_.voxel_size;
     const double k2 = options_.vtou_mahalanobis_sq;
-    const int32_t* predicted = s.pixel_predicted.data();
-    const float* depth = f.depth.data.data();
     const DepthWindow window = depthWindow(fp.z0, tol);
-    uint32_t n = 0;
-    for (int r = fp.r0; r <= fp.r1; ++r)
-    {
-        int a, b;
-        if (!footprintRow(fp, r, k2, a, b)) continue;
-        const uint32_t row = uint32_t(r) * uint32_t(W);
-        const int32_t* to_frame = s.predicted_bands[size_t(s.bandOfRow(r, H))].remap.data();
-        n += s.mask_row(predicted + row, depth + row, a, b, window, row, to_frame, out + n);
-    }
-    return n;
+    return s.mask_footprint(fp, k2, s.pixel_predicted.data(), f.depth.data.data(), f.depth.width, window,
+                            s.row_remap.data(), out);
 }
 
 }  // namespace pndt

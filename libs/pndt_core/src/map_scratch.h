@@ -347,7 +347,8 @@ struct PanopticMap::Scratch
     std::vector<int32_t> pixel_slot;      ///< per pixel: its band's local hit slot (remap: frame slot), -1 not mapped
     std::vector<ProjectionBand> bands;    ///< bands[0] holds the merged frame result
     int band_count = 1;                   ///< bands used by this frame (projection and predicted instances)
-    MaskRowFn mask_row = &maskRowScalar;  ///< the vtou row kernel of this frame (instance matching)
+    MaskFootprintFn mask_footprint = &maskFootprintScalar;  ///< the vtou kernel of this frame (instance matching)
+    std::vector<const int32_t*> row_remap;  ///< per image row: its band's remap (predicted index -> frame's)
     BandFlags band_done;                  ///< projected, not merged yet
     int merged_bands = 0;                 ///< bands [0, merged_bands) merged (under band_merge)
     std::mutex band_merge;

@@ -6,9 +6,6 @@ namespace pndt
 {
 namespace
 {
-/// A pixel coordinate from a double that may be far outside the image.
-inline int clampedInt(double x) { return int(std::max(-1.0e9, std::min(1.0e9, x))); }
-
 void clipToImage(MaskFootprint& fp, const CameraIntrinsics& K)
 {
     fp.c0 = std::max(fp.c0, 0);
@@ -36,10 +33,10 @@ MaskFootprint gaussianFootprint(const NdtGaussian& g, const Pose& T_cam_world, c
     fp.u0 = K.fx * m.x() / m.z() + K.cx;
     fp.v0 = K.fy * m.y() / m.z() + K.cy;
     const double rx = std::sqrt(k2 * S(0, 0)), ry = std::sqrt(k2 * S(1, 1));
-    fp.c0 = clampedInt(std::ceil(fp.u0 - rx));
-    fp.c1 = clampedInt(std::floor(fp.u0 + rx));
-    fp.r0 = clampedInt(std::ceil(fp.v0 - ry));
-    fp.r1 = clampedInt(std::floor(fp.v0 + ry));
+    fp.c0 = clampedPixel(std::ceil(fp.u0 - rx));
+    fp.c1 = clampedPixel(std::floor(fp.u0 + rx));
+    fp.r0 = clampedPixel(std::ceil(fp.v0 - ry));
+    fp.r1 = clampedPixel(std::floor(fp.v0 + ry));
     fp.z0 = m.z();
     clipToImage(fp, K);
     return fp;
@@ -61,32 +58,13 @@ MaskFootprint cubeFootprint(const Eigen::Vector3d& min_corner, double size, cons
         vmin = std::min(vmin, v);
         vmax = std::max(vmax, v);
     }
-    fp.c0 = clampedInt(std::ceil(umin));
-    fp.c1 = clampedInt(std::floor(umax));
-    fp.r0 = clampedInt(std::ceil(vmin));
-    fp.r1 = clampedInt(std::floor(vmax));
+    fp.c0 = clampedPixel(std::ceil(umin));
+    fp.c1 = clampedPixel(std::floor(umax));
+    fp.r0 = clampedPixel(std::ceil(vmin));
+    fp.r1 = clampedPixel(std::floor(vmax));
     fp.z0 = (T_cam_world * (min_corner + Eigen::Vector3d::Constant(size / 2))).z();
     clipToImage(fp, K);
     return fp;
-}
-
-bool footprintRow(const MaskFootprint& fp, int r, double k2, int& c0, int& c1)
-{
-    c0 = fp.c0;
-    c1 = fp.c1;
-    if (fp.ellipse)
-    {
-        // Pixel centres inside the ellipse: S00 du^2 + 2 S01 du dv + S11 dv^2 <= k2,
-        // an interval of du per row.
-        const double dv = r - fp.v0;
-        const double qa = fp.s00, qb = 2 * fp.s01 * dv, qc = fp.s11 * dv * dv - k2;
-        const double disc = qb * qb - 4 * qa * qc;
-        if (!(disc >= 0) || !(qa > 0)) return false;
-        const double root = std::sqrt(disc);
-        c0 = std::max(c0, clampedInt(std::ceil(fp.u0 + (-qb - root) / (2 * qa))));
-        c1 = std::min(c1, clampedInt(std::floor(fp.u0 + (-qb + root) / (2 * qa))));
-    }
-    return c0 <= c1;
 }
 
 }  // namespace pndt

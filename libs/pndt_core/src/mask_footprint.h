@@ -7,6 +7,7 @@
 #include <pndt/gaussian.h>
 #include <pndt/types.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace pndt
@@ -32,9 +33,29 @@ MaskFootprint gaussianFootprint(const NdtGaussian& g, const Pose& T_cam_world, c
 MaskFootprint cubeFootprint(const Eigen::Vector3d& min_corner, double size, const Pose& T_cam_world,
                             const CameraIntrinsics& K);
 
+/// A pixel coordinate from a double that may be far outside the image.
+inline int clampedPixel(double x) { return int(std::max(-1.0e9, std::min(1.0e9, x))); }
+
 /// Row r's columns [c0, c1] inside the footprint (the ellipse's chord, or the
-/// box); false when the row has none.
-bool footprintRow(const MaskFootprint& fp, int r, double k2, int& c0, int& c1);
+/// box); false when the row has none. Inline: the vtou kernels call it per row.
+inline bool footprintRow(const MaskFootprint& fp, int r, double k2, int& c0, int& c1)
+{
+    c0 = fp.c0;
+    c1 = fp.c1;
+    if (fp.ellipse)
+    {
+        // Pixel centres inside the ellipse: S00 du^2 + 2 S01 du dv + S11 dv^2 <= k2,
+        // an interval of du per row.
+        const double dv = r - fp.v0;
+        const double qa = fp.s00, qb = 2 * fp.s01 * dv, qc = fp.s11 * dv * dv - k2;
+        const double disc = qb * qb - 4 * qa * qc;
+        if (!(disc >= 0) || !(qa > 0)) return false;
+        const double root = std::sqrt(disc);
+        c0 = std::max(c0, clampedPixel(std::ceil(fp.u0 + (-qb - root) / (2 * qa))));
+        c1 = std::min(c1, clampedPixel(std::floor(fp.u0 + (-qb + root) / (2 * qa))));
+    }
+    return c0 <= c1;
+}
 
 /// Pixels [begin, end) of one image row in a thing voxel's vtou (footprint and
 /// depth test passed), all of one predicted instance (frame index, -1 none).

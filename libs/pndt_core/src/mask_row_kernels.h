@@ -34,4 +34,15 @@ MaskRowFn maskRowAvx512();  ///< nullptr without AVX-512 F
 /// The fastest version this CPU runs within simdCap().
 MaskRowFn bestMaskRow();
 
+/// Every row of a footprint: each row's chord (footprintRow) through the row
+/// kernel, at pixel index r * W; `row_remap[r]` is row r's `to_frame`. The
+/// same spans as a loop over footprintRow and the row kernel.
+using MaskFootprintFn = uint32_t (*)(const MaskFootprint& fp, double k2, const int32_t* predicted, const float* depth,
+                                     int W, DepthWindow w, const int32_t* const* row_remap, MaskSpan* out);
+uint32_t maskFootprintScalar(const MaskFootprint& fp, double k2, const int32_t* predicted, const float* depth, int W,
+                             DepthWindow w, const int32_t* const* row_remap, MaskSpan* out);
+MaskFootprintFn maskFootprintAvx2();    ///< nullptr without AVX2
+MaskFootprintFn maskFootprintAvx512();  ///< nullptr without AVX-512 F
+MaskFootprintFn bestMaskFootprint();
+
 }  // namespace pndt
