@@ -238,14 +238,14 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
     else
         rasterise(0);
 
-    // One mask per map instance: the union of its voxels' pixels. Each mask is
-    // cut into the image's row bands, so that a large one does not leave a
-    // thread alone at the end: a pixel lies in one band, so each piece dedupes
-    // its own pixels (per-thread pixel bits) and the pieces' counts add up
-    // (per-thread sums). Largest masks first.
+    // One mask per map instance: the union of its voxels' pixels. A mask with
+    // a large share of the frame's spans is cut into the image's row bands, so
+    // that it does not leave a thread alone at the end: a pixel lies in one
+    // band, so each piece dedupes its own pixels (per-thread pixel bits) and the
+    // pieces' counts add up (per-thread sums). Smaller masks stay whole: every
+    // piece walks all of its mask's voxels, which for a mask of a few rows is
+    // most of the work. Most spans first.
     const int W = f.depth.width, H = f.depth.height;
-    const int pieces = threads > 1 ? B : 1;
-    const int mask_tasks = int(G) * pieces;
     const size_t P1 = P + 1;  // per group: pixels of no prediction, then each prediction
     if (s.mask_workers.size() < size_t(threads)) s.mask_workers.resize(size_t(threads));
     for (int t = 0; t < threads; ++t)
@@ -255,15 +255,31 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
         m.area.assign(G, 0);
         m.inter.assign(G * P1, 0);
     }
+    s.group_spans.assign(G, 0);
+    uint64_t all_spans = 0;
+    for (size_t gi = 0; gi < G; ++gi)
+    {
+        for (size_t c = s.groups[gi].first; c < s.groups[gi].second; ++c)
+            s.group_spans[gi] += s.thing_span_count[s.candidates[c].thing];
+        all_spans += s.group_spans[gi];
+    }
     s.mask_order.resize(G);
     for (size_t gi = 0; gi < G; ++gi) s.mask_order[gi] = uint32_t(gi);
-    const auto size = [&](uint32_t gi) { return s.groups[gi].second - s.groups[gi].first; };
-    std::sort(s.mask_order.begin(), s.mask_order.end(),
-              [&](uint32_t a, uint32_t b) { return size(a) != size(b) ? size(a) > size(b) : a < b; });
+    std::sort(s.mask_order.begin(), s.mask_order.end(), [&](uint32_t a, uint32_t b) {
+        return s.group_spans[a] != s.group_spans[b] ? s.group_spans[a] > s.group_spans[b] : a < b;
+    });
+    s.mask_tasks.clear();
+    for (const uint32_t gi : s.mask_order)
+    {
+        const bool cut = threads > 1 && s.group_spans[gi] * uint64_t(4 * threads) > all_spans;
+        const int pieces = cut ? B : 1;
+        for (int piece = 0; piece < pieces; ++piece) s.mask_tasks.push_back({gi, uint16_t(piece), uint16_t(pieces)});
+    }
     const MarkSpansFn mark_spans = bestMarkSpans();
     const auto mask = [&](int task, int thread) {
-        const size_t gi = s.mask_order[size_t(task / pieces)];
-        const int piece = task % pieces, row_begin = H * piece / pieces, row_end = H * (piece + 1) / pieces;
+        const MaskTask& mt = s.mask_tasks[size_t(task)];
+        const size_t gi = mt.group;
+        const int pieces = mt.pieces, row_begin = H * mt.piece / pieces, row_end = H * (mt.piece + 1) / pieces;
         const uint32_t pixel_begin = uint32_t(row_begin) * uint32_t(W), pixel_end = uint32_t(row_end) * uint32_t(W);
         MaskWorker& m = s.mask_workers[size_t(thread)];
         uint64_t area = 0;
@@ -295,6 +311,7 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
                 for (uint32_t w = sp->begin >> 6, we = (sp->end - 1) >> 6; w <= we; ++w) bits[w] = 0;
         m.area[gi] += area;
     };
+    const int mask_tasks = int(s.mask_tasks.size());
     if (threads > 1 && mask_tasks > 1)
         s.pool->runWithThread(mask_tasks, mask);
     else

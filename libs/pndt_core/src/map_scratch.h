@@ -301,6 +301,14 @@ struct MaskWorker
     std::vector<uint64_t> inter;  ///< per group x predicted
 };
 
+/// One task of the mask rasterisation: group `group`'s pixels in rows
+/// [H piece / pieces, H (piece + 1) / pieces).
+struct MaskTask
+{
+    uint32_t group;
+    uint16_t piece, pieces;
+};
+
 /// The records of a frame slot's voxel, looked up on its first pixel.
 struct SlotRecords
 {
@@ -400,7 +408,9 @@ struct PanopticMap::Scratch
     std::vector<uint64_t> group_area;                    ///< per group: mask area
     std::vector<uint64_t> group_inter;                   ///< per group x predicted: intersection
     std::vector<MaskWorker> mask_workers;                ///< per thread
-    std::vector<uint32_t> mask_order;                    ///< groups, largest first
+    std::vector<uint32_t> mask_order;                    ///< groups, most spans first
+    std::vector<uint64_t> group_spans;                   ///< per group: its voxels' spans (the mask's work)
+    std::vector<MaskTask> mask_tasks;                    ///< the masks' tasks, in mask_order
     std::vector<MaskFootprint> footprints;               ///< per thing voxel
     std::vector<double> iou;                             ///< per group x predicted
     std::vector<int32_t> assignment;                     ///< per predicted: group, kAssignNew/Ambiguous
