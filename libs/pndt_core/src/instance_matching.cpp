@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "candidate_sort.h"
 #include "frame_pixels.h"
 #include "map_scratch.h"
 #include "mask_row_kernels.h"
@@ -86,6 +87,25 @@ void PanopticMap::predictedBand(const FramePixels& f, int band, int bands)
                     s.pixel_predicted.data(), i0, i1, s.predicted_bands[size_t(band)], bestContinueInstance());
 }
 
+void PanopticMap::prefetchRecordChain(const HitSlot* hits, uint32_t h, uint32_t end) const
+{
+    // Each stage reads what an earlier iteration's prefetch brought in: a voxel's
+    // records are four dependent reads (voxel, surface, labels, instances) into
+    // pools of megabytes at 5 cm, in no order the hardware could guess.
+    if (h + 12 < end) __builtin_prefetch(&store_[hits[h + 12].voxel]);
+    if (h + 8 < end)
+        if (const Voxel& v = store_[hits[h + 8].voxel]; v.surface != kNoRecord) __builtin_prefetch(&surfaces_[v.surface]);
+    if (h + 4 < end)
+        if (const Voxel& v = store_[hits[h + 4].voxel]; v.surface != kNoRecord)
+            if (const uint32_t l = surfaces_[v.surface].labels; l != kNoRecord) __builtin_prefetch(&labels_[l]);
+    if (h + 2 < end)
+        if (const LabelRecord* rec = labelsOf(store_[hits[h + 2].voxel]); rec && rec->instances != kNoRecord)
+        {
+            const char* z = reinterpret_cast<const char*>(&instance_records_[rec->instances]);
+            for (size_t b = 0; b < sizeof(InstanceRecord); b += 64) __builtin_prefetch(z + b);
+        }
+}
+
 void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats& st)
 {
     Scratch& s = *scratch_;
@@ -139,17 +159,20 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
     // the result does not depend on the shares). Each thing voxel is numbered
     // once (in slot order), for its footprint and pixels.
     const uint32_t nh = s.hitCount();
-    const int parts = threads > 1 && nh >= 1024 ? 4 * threads : 1;
+    const int parts = threads > 1 && nh >= 256 ? 4 * threads : 1;
     if (s.candidate_parts.size() < size_t(parts)) s.candidate_parts.resize(size_t(parts));
     if (s.thing_parts.size() < size_t(parts)) s.thing_parts.resize(size_t(parts));
+    if (s.candidate_sort_tmp.size() < size_t(parts)) s.candidate_sort_tmp.resize(size_t(parts));
     const auto collect = [&](int t) {
         auto& part = s.candidate_parts[size_t(t)];
         auto& things = s.thing_parts[size_t(t)];
         part.clear();
         things.clear();
         const HitSlot* hits = s.hits();
-        for (uint32_t h = uint32_t(uint64_t(nh) * t / parts), e = uint32_t(uint64_t(nh) * (t + 1) / parts); h < e; ++h)
+        const uint32_t h0 = uint32_t(uint64_t(nh) * t / parts), e = uint32_t(uint64_t(nh) * (t + 1) / parts);
+        for (uint32_t h = h0; h < e; ++h)
         {
+            prefetchRecordChain(hits, h, e);
             const uint32_t vi = hits[h].voxel;
             const Voxel& v = store_[vi];
             if (!isOccupied(v)) continue;
@@ -167,7 +190,7 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
                 }
             if (any) things.push_back(vi);
         }
-        std::sort(part.begin(), part.end());
+        sortCandidates(part, s.candidate_sort_tmp[size_t(t)]);
     };
     if (parts > 1)
         s.pool->run(parts, collect);

@@ -398,6 +398,7 @@ struct PanopticMap::Scratch
     std::vector<MaskCandidate> candidates;               ///< (map instance, voxel index, thing), sorted
     std::vector<std::vector<MaskCandidate>> candidate_parts;  ///< per task, sorted
     std::vector<MaskCandidate> candidate_merge;          ///< merge buffer
+    std::vector<std::vector<MaskCandidate>> candidate_sort_tmp;  ///< per task, sorting scratch
     std::vector<std::vector<uint32_t>> thing_parts;      ///< per task: hit slots of its thing voxels
     std::vector<uint32_t> thing_base;                    ///< per task: index of its first thing voxel
     std::vector<uint32_t> thing_voxel;                   ///< per thing voxel of the frame: its store index

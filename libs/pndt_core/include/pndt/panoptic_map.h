@@ -91,6 +91,7 @@ struct RayWorker;      // integrate()'s per-thread free-space scratch
 struct MaskFootprint;  // a voxel's back-projection into the image
 struct MaskSpan;       // a run of its pixels in one image row
 struct FramePixels;    // a frame as the stages read it (contiguous, float metres along z)
+struct HitSlot;        // a voxel the frame hit, with its samples
 
 class PanopticMap
 {
@@ -222,6 +223,8 @@ class PanopticMap
     void castRays(const Eigen::Vector3d& origin, size_t first_ray, size_t end_ray, RayWorker& worker);
     void applyMisses(FrameStats& st);
     void matchInstances(const FramePixels& f, const Pose& T, FrameStats& st);
+    /// Prefetches the records of the voxels a few hits after h (of hits[.., end)).
+    void prefetchRecordChain(const HitSlot* hits, uint32_t h, uint32_t end) const;
     void predictedBand(const FramePixels& f, int band, int bands);
     /// vtou of one voxel: where it lies in the image.
     MaskFootprint maskFootprint(uint32_t voxel, const Pose& T_cam_world, const CameraIntrinsics& K) const;
