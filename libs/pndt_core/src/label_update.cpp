@@ -175,7 +175,7 @@ void PanopticMap::histogramTask(const FramePixels& f, int task)
     const uint16_t* sem = f.semantic.data.data();
     const float* sem_score = f.semantic_score.data.data();
     const int32_t* predicted = instances ? s.pixel_predicted.data() : nullptr;
-    const uint32_t* decision = s.predicted_decision.data();
+    const uint32_t* decision = s.predicted_decision.data();  // per band: w.band_decision
     // Pixels of a merged prediction that lie on a map instance of another class.
     const uint32_t* split_stamp = s.split_pixels ? s.split_stamp.data() : nullptr;
     const uint32_t* split_id = s.split_id.data();
@@ -228,8 +228,8 @@ void PanopticMap::histogramTask(const FramePixels& f, int task)
     };
 
     // Spans and pixels hold their band's local slot and predicted index:
-    // translated with the remaps of their band (identity for band 0).
-    const int32_t* predicted_of = nullptr;
+    // translated with the remaps of their band (identity for band 0), the
+    // predicted indices through `decision` (set per band below).
     // Float weights: a voxel's runs wait in its slot record while the pass is elsewhere
     // (continued when the next row comes back to it, flushed at the end); quantised ones
     // round at each flush, so their runs end at every voxel change, as the one-band walk's.
@@ -281,13 +281,14 @@ void PanopticMap::histogramTask(const FramePixels& f, int task)
         inst = cur_records->instance;
     };
     // One pixel of the current voxel.
-    const auto update = [&](uint32_t i, auto translate) {
-        constexpr bool kTranslate = decltype(translate)::value;
+    // `Walk`: a type per walk (one band, bands), so that each walk has its own
+    // copy to inline (one copy called from both was not inlined: 1.5x slower).
+    const auto update = [&](uint32_t i, auto /*Walk*/) {
         if (instances)
         {
             const int32_t p = predicted[i];
             const uint32_t z = split_stamp && split_stamp[i] == split_now ? split_id[i]
-                               : p >= 0 ? decision[size_t(kTranslate ? predicted_of[p] : p)]
+                               : p >= 0 ? decision[size_t(p)]
                                         : 0;
             const float sp = pan_score[i];
             // Scores near the threshold make "is it an update" unpredictable:
@@ -334,49 +335,63 @@ void PanopticMap::histogramTask(const FramePixels& f, int task)
             }
         }
     };
+    // Where the CPU has a block test, a span of 16 pixels or more starts with
+    // it: pixels that only continue the runs go 16 a step; after the first
+    // pixel that does not, the span goes on pixel by pixel (runs that break
+    // every few pixels would waste block after block).
+    const ContinueRunsFn continueRuns = bestContinueRuns();
+    RunBlockInputs in;
+    in.semantic = sem;
+    in.semantic_score = sem_score;
+    in.predicted = predicted;
+    in.decision = decision;
+    in.split_stamp = split_stamp;
+    in.split_id = split_id;
+    in.split_now = split_now;
+    in.panoptic_score = pan_score;
+    in.theta_l = theta_l;
+    in.theta_z = theta_z;
+    in.void_id = void_id;
+    const auto walkSpan = [&](const PixelSpan& span, auto walk) {
+        uint32_t i = span.begin;
+        if (continueRuns && span.end - i >= 16)
+        {
+            RunSums sums{run_z, run_l, run_zw, run_lw, run_nz, run_nl};
+            i = continueRuns(in, i, span.end, sums);
+            run_zw = sums.z_weight;
+            run_lw = sums.l_weight;
+            run_nz = sums.z_updates;
+            run_nl = sums.l_updates;
+        }
+        for (; i < span.end; ++i) update(i, walk);
+    };
     if (s.band_count == 1)
     {
         // One band (one thread): its spans in raster order, no translation.
-        // Where the CPU has a block test, a span of 16 pixels or more starts
-        // with it: pixels that only continue the runs go 16 a step; after the
-        // first pixel that does not, the span goes on pixel by pixel (runs
-        // that break every few pixels would waste block after block).
-        const ContinueRunsFn continueRuns = bestContinueRuns();
-        RunBlockInputs in;
-        in.semantic = sem;
-        in.semantic_score = sem_score;
-        in.predicted = predicted;
-        in.decision = decision;
-        in.split_stamp = split_stamp;
-        in.split_id = split_id;
-        in.split_now = split_now;
-        in.panoptic_score = pan_score;
-        in.theta_l = theta_l;
-        in.theta_z = theta_z;
-        in.void_id = void_id;
         for (const PixelSpan& span : s.bands[0].spans)
         {
             if (int32_t(span.slot) != cur) enter(span.slot);
-            uint32_t i = span.begin;
-            if (continueRuns && span.end - i >= 16)
-            {
-                RunSums sums{run_z, run_l, run_zw, run_lw, run_nz, run_nl};
-                i = continueRuns(in, i, span.end, sums);
-                run_zw = sums.z_weight;
-                run_lw = sums.l_weight;
-                run_nz = sums.z_updates;
-                run_nl = sums.l_updates;
-            }
-            for (; i < span.end; ++i) update(i, std::false_type{});
+            walkSpan(span, std::false_type{});
         }
     }
     else
     {
+        // The task's band and the later ones its voxels reach.
         for (int b = task; b <= last_band; ++b)
         {
             const ProjectionBand& pb = s.bands[size_t(b)];
             const uint32_t* slot_of = pb.remap.data();
-            if (instances) predicted_of = s.predicted_bands[size_t(b)].remap.data();
+            if (instances)
+            {
+                // The band's pixels hold its local predicted indices: their
+                // decisions, translated once per band, so that the block test and
+                // the pixel loop read decision[p] directly.
+                const std::vector<int32_t>& remap = s.predicted_bands[size_t(b)].remap;
+                w.band_decision.resize(remap.size());
+                for (size_t j = 0; j < remap.size(); ++j) w.band_decision[j] = s.predicted_decision[size_t(remap[j])];
+                decision = w.band_decision.data();
+                in.decision = decision;
+            }
             for (const PixelSpan& span : pb.spans)
             {
                 if (span.begin >= i_end) break;
@@ -396,7 +411,7 @@ void PanopticMap::histogramTask(const FramePixels& f, int task)
                     continue;
                 }
                 if (int32_t(slot) != cur) enter(slot);
-                for (uint32_t i = span.begin; i < span.end; ++i) update(i, std::true_type{});
+                walkSpan(span, std::true_type{});
             }
         }
     }

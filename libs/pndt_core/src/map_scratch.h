@@ -342,6 +342,7 @@ struct HistogramWorker
     uint64_t semantic_updates = 0, instance_updates = 0;
     std::vector<LabelRecord> labels;        ///< new records of this frame, until they join the pool
     std::vector<InstanceRecord> instances;
+    std::vector<uint32_t> band_decision;  ///< per predicted index of the band being walked: its decision
 };
 
 struct PanopticMap::Scratch
