@@ -299,13 +299,14 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
     {
         const bool cut = threads > 1 && s.group_spans[gi] * uint64_t(4 * threads) > all_spans;
         const int pieces = cut ? B : 1;
-        for (int piece = 0; piece < pieces; ++piece) s.mask_tasks.push_back({gi, uint16_t(piece), uint16_t(pieces)});
+        for (int piece = 0; piece < pieces; ++piece) s.mask_tasks.push_back({gi, uint32_t(piece), uint32_t(pieces)});
     }
     const MarkSpansFn mark_spans = bestMarkSpans();
     const auto mask = [&](int task, int thread) {
         const MaskTask& mt = s.mask_tasks[size_t(task)];
         const size_t gi = mt.group;
-        const int pieces = mt.pieces, row_begin = H * mt.piece / pieces, row_end = H * (mt.piece + 1) / pieces;
+        const int piece = int(mt.piece), pieces = int(mt.pieces);
+        const int row_begin = H * piece / pieces, row_end = H * (piece + 1) / pieces;
         const uint32_t pixel_begin = uint32_t(row_begin) * uint32_t(W), pixel_end = uint32_t(row_end) * uint32_t(W);
         MaskWorker& m = s.mask_workers[size_t(thread)];
         uint64_t area = 0;
@@ -546,11 +547,17 @@ void PanopticMap::prefetchFootprint(const MaskFootprint& fp, const FramePixels& 
     const Scratch& s = *scratch_;
     const size_t W = size_t(f.depth.width);
     for (int r = fp.r0; r <= fp.r1; ++r)
-        for (int c = fp.c0; c <= fp.c1 + 15; c += 16)
+    {
+        const int32_t* predicted = s.pixel_predicted.data() + size_t(r) * W;
+        const float* depth = f.depth.data.data() + size_t(r) * W;
+        for (int c = fp.c0; c <= fp.c1; c += 16)  // a line each, and the row's last pixel's
         {
-            __builtin_prefetch(s.pixel_predicted.data() + size_t(r) * W + size_t(c));
-            __builtin_prefetch(f.depth.data.data() + size_t(r) * W + size_t(c));
+            __builtin_prefetch(predicted + c);
+            __builtin_prefetch(depth + c);
         }
+        __builtin_prefetch(predicted + fp.c1);
+        __builtin_prefetch(depth + fp.c1);
+    }
 }
 
 uint32_t PanopticMap::footprintSpans(const MaskFootprint& fp, const FramePixels& f, MaskSpan* out)

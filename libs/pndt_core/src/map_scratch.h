@@ -306,7 +306,7 @@ struct MaskWorker
 struct MaskTask
 {
     uint32_t group;
-    uint16_t piece, pieces;
+    uint32_t piece, pieces;
 };
 
 /// The records of a frame slot's voxel, looked up on its first pixel.
