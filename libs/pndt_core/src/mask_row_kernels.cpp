@@ -79,9 +79,10 @@ uint32_t maskRowScalar(const int32_t* predicted, const float* depth, int c0, int
 }
 
 #ifdef PNDT_X86
-__attribute__((target("avx2"), always_inline)) inline uint32_t maskRowAvx2Body(const int32_t* predicted, const float* depth, int c0,
-                                                                 int c1, DepthWindow w, uint32_t row,
-                                                                 const int32_t* to_frame, MaskSpan* out)
+__attribute__((target("avx2"), always_inline)) inline uint32_t maskRowAvx2Body(const int32_t* predicted,
+                                                                                const float* depth, int c0, int c1,
+                                                                                DepthWindow w, uint32_t row,
+                                                                                const int32_t* to_frame, MaskSpan* out)
 {
     uint32_t n = 0;
     int32_t run_p = kUnmappedPixel;
@@ -112,9 +113,11 @@ __attribute__((target("avx2"), always_inline)) inline uint32_t maskRowAvx2Body(c
     return closeRow(c1, row, to_frame, run_p, run_begin, out, n);
 }
 
-__attribute__((target("avx512f"), always_inline)) inline uint32_t maskRowAvx512Body(const int32_t* predicted, const float* depth,
-                                                                     int c0, int c1, DepthWindow w, uint32_t row,
-                                                                     const int32_t* to_frame, MaskSpan* out)
+__attribute__((target("avx512f"), always_inline)) inline uint32_t maskRowAvx512Body(const int32_t* predicted,
+                                                                                    const float* depth, int c0, int c1,
+                                                                                    DepthWindow w, uint32_t row,
+                                                                                    const int32_t* to_frame,
+                                                                                    MaskSpan* out)
 {
     uint32_t n = 0;
     int32_t run_p = kUnmappedPixel;
@@ -148,25 +151,25 @@ __attribute__((target("avx512f"), always_inline)) inline uint32_t maskRowAvx512B
     return closeRow(c1, row, to_frame, run_p, run_begin, out, n);
 }
 
-__attribute__((target("avx2"))) uint32_t maskRowAvx2Impl(const int32_t* predicted, const float* depth, int c0, int c1,
-                                                          DepthWindow w, uint32_t row, const int32_t* to_frame,
-                                                          MaskSpan* out)
+__attribute__((target("avx2"))) static uint32_t maskRowAvx2Impl(const int32_t* predicted, const float* depth, int c0,
+                                                                 int c1, DepthWindow w, uint32_t row,
+                                                                 const int32_t* to_frame, MaskSpan* out)
 {
     return maskRowAvx2Body(predicted, depth, c0, c1, w, row, to_frame, out);
 }
-__attribute__((target("avx512f"))) uint32_t maskRowAvx512Impl(const int32_t* predicted, const float* depth, int c0,
-                                                              int c1, DepthWindow w, uint32_t row,
-                                                              const int32_t* to_frame, MaskSpan* out)
+__attribute__((target("avx512f"))) static uint32_t maskRowAvx512Impl(const int32_t* predicted, const float* depth,
+                                                                     int c0, int c1, DepthWindow w, uint32_t row,
+                                                                     const int32_t* to_frame, MaskSpan* out)
 {
     return maskRowAvx512Body(predicted, depth, c0, c1, w, row, to_frame, out);
 }
 
 // The footprint's rows in one call, the row kernel inlined: a thing voxel at
 // 5 cm covers ~9 pixels of ~11 rows, so a call per row cost more than its pixels.
-__attribute__((target("avx2"))) uint32_t maskFootprintAvx2Impl(const MaskFootprint& fp, double k2,
-                                                              const int32_t* predicted, const float* depth, int W,
-                                                              DepthWindow w, const int32_t* const* row_remap,
-                                                              MaskSpan* out)
+__attribute__((target("avx2"))) static uint32_t maskFootprintAvx2Impl(const MaskFootprint& fp, double k2,
+                                                                       const int32_t* predicted, const float* depth,
+                                                                       int W, DepthWindow w,
+                                                                       const int32_t* const* row_remap, MaskSpan* out)
 {
     uint32_t n = 0;
     for (int r = fp.r0; r <= fp.r1; ++r)
@@ -178,10 +181,11 @@ __attribute__((target("avx2"))) uint32_t maskFootprintAvx2Impl(const MaskFootpri
     }
     return n;
 }
-__attribute__((target("avx512f"))) uint32_t maskFootprintAvx512Impl(const MaskFootprint& fp, double k2,
-                                                                    const int32_t* predicted, const float* depth,
-                                                                    int W, DepthWindow w,
-                                                                    const int32_t* const* row_remap, MaskSpan* out)
+__attribute__((target("avx512f"))) static uint32_t maskFootprintAvx512Impl(const MaskFootprint& fp, double k2,
+                                                                           const int32_t* predicted,
+                                                                           const float* depth, int W, DepthWindow w,
+                                                                           const int32_t* const* row_remap,
+                                                                           MaskSpan* out)
 {
     uint32_t n = 0;
     for (int r = fp.r0; r <= fp.r1; ++r)

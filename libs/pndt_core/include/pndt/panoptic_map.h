@@ -228,11 +228,11 @@ class PanopticMap
     void predictedBand(const FramePixels& f, int band, int bands);
     /// vtou of one voxel: where it lies in the image.
     MaskFootprint maskFootprint(uint32_t voxel, const Pose& T_cam_world, const CameraIntrinsics& K) const;
+    /// Prefetches the image rows a footprint covers (the next voxel's, while this one is walked).
+    void prefetchFootprint(const MaskFootprint& fp, const FramePixels& f) const;
     /// The footprint's pixels that pass the depth test, as runs along its rows
     /// of one predicted instance each, in raster order; returns their number
     /// (at most the footprint's box area).
-    /// Prefetches the image rows a footprint covers (the next voxel's, while this one is walked).
-    void prefetchFootprint(const MaskFootprint& fp, const FramePixels& f) const;
     uint32_t footprintSpans(const MaskFootprint& fp, const FramePixels& f, MaskSpan* out);
     void classifyMapInstances();
     void collectFragmentEvidence();
