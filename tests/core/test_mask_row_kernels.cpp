@@ -39,6 +39,17 @@ std::vector<MaskSpan> reference(const int32_t* predicted, const float* depth, in
     }
     return out;
 }
+/// got == want span by span (kernel v, case k in the messages).
+void expectSameSpans(const std::vector<MaskSpan>& got, const std::vector<MaskSpan>& want, size_t v, int k)
+{
+    ASSERT_EQ(got.size(), want.size()) << "kernel " << v << " case " << k;
+    for (size_t i = 0; i < want.size(); ++i)
+    {
+        ASSERT_EQ(got[i].begin, want[i].begin) << "kernel " << v << " case " << k << " span " << i;
+        ASSERT_EQ(got[i].end, want[i].end) << "kernel " << v << " case " << k << " span " << i;
+        ASSERT_EQ(got[i].predicted, want[i].predicted) << "kernel " << v << " case " << k << " span " << i;
+    }
+}
 }  // namespace
 
 TEST(MaskRowKernels, TheDepthWindowIsTheDoubleFormulaForEveryFloatNearItsEnds)
@@ -119,13 +130,7 @@ TEST(MaskRowKernels, EveryVersionCutsARowIntoTheSameSpans)
             std::vector<MaskSpan> got(size_t(c1 - c0 + 2));
             got.resize(kernels[v](predicted.data(), depth.data(), c0, c1, depthWindow(z0, tol), row, to_frame.data(),
                                   got.data()));
-            ASSERT_EQ(got.size(), want.size()) << "kernel " << v << " case " << k;
-            for (size_t i = 0; i < want.size(); ++i)
-            {
-                ASSERT_EQ(got[i].begin, want[i].begin) << "kernel " << v << " case " << k << " span " << i;
-                ASSERT_EQ(got[i].end, want[i].end) << "kernel " << v << " case " << k << " span " << i;
-                ASSERT_EQ(got[i].predicted, want[i].predicted) << "kernel " << v << " case " << k << " span " << i;
-            }
+            ASSERT_NO_FATAL_FAILURE(expectSameSpans(got, want, v, k));
         }
     }
     EXPECT_GT(spans, 20000u);  // the cases do cut rows into many runs
@@ -191,13 +196,7 @@ TEST(MaskRowKernels, EveryFootprintVersionGivesTheRowByRowSpans)
             std::vector<MaskSpan> got(size_t(W * H));
             got.resize(kernels[v](fp, k2, predicted.data(), depth.data(), W, depthWindow(z0, tol), row_remap.data(),
                                   got.data()));
-            ASSERT_EQ(got.size(), want.size()) << "kernel " << v << " case " << k;
-            for (size_t i = 0; i < want.size(); ++i)
-            {
-                ASSERT_EQ(got[i].begin, want[i].begin) << "kernel " << v << " case " << k << " span " << i;
-                ASSERT_EQ(got[i].end, want[i].end) << "kernel " << v << " case " << k << " span " << i;
-                ASSERT_EQ(got[i].predicted, want[i].predicted) << "kernel " << v << " case " << k << " span " << i;
-            }
+            ASSERT_NO_FATAL_FAILURE(expectSameSpans(got, want, v, k));
         }
     }
     EXPECT_GT(rows_used, 5000u);  // footprints of many rows, in both bands

@@ -10,6 +10,19 @@
 #define PNDT_X86 1
 #endif
 
+// A footprint's rows through a row kernel: each version's body, with its own
+// kernel inlined (a template could not take the versions' target attributes).
+#define PNDT_FOOTPRINT_ROWS(ROW_KERNEL)                                                              \
+    uint32_t n = 0;                                                                                  \
+    for (int r = fp.r0; r <= fp.r1; ++r)                                                             \
+    {                                                                                                \
+        int a, b;                                                                                    \
+        if (!footprintRow(fp, r, k2, a, b)) continue;                                                \
+        const uint32_t row = uint32_t(r) * uint32_t(W);                                              \
+        n += ROW_KERNEL(predicted + row, depth + row, a, b, w, row, row_remap[r], out + n);          \
+    }                                                                                                \
+    return n
+
 namespace pndt
 {
 namespace
@@ -171,15 +184,7 @@ __attribute__((target("avx2"))) static uint32_t maskFootprintAvx2Impl(const Mask
                                                                        int W, DepthWindow w,
                                                                        const int32_t* const* row_remap, MaskSpan* out)
 {
-    uint32_t n = 0;
-    for (int r = fp.r0; r <= fp.r1; ++r)
-    {
-        int a, b;
-        if (!footprintRow(fp, r, k2, a, b)) continue;
-        const uint32_t row = uint32_t(r) * uint32_t(W);
-        n += maskRowAvx2Body(predicted + row, depth + row, a, b, w, row, row_remap[r], out + n);
-    }
-    return n;
+    PNDT_FOOTPRINT_ROWS(maskRowAvx2Body);
 }
 __attribute__((target("avx512f"))) static uint32_t maskFootprintAvx512Impl(const MaskFootprint& fp, double k2,
                                                                            const int32_t* predicted,
@@ -187,15 +192,7 @@ __attribute__((target("avx512f"))) static uint32_t maskFootprintAvx512Impl(const
                                                                            const int32_t* const* row_remap,
                                                                            MaskSpan* out)
 {
-    uint32_t n = 0;
-    for (int r = fp.r0; r <= fp.r1; ++r)
-    {
-        int a, b;
-        if (!footprintRow(fp, r, k2, a, b)) continue;
-        const uint32_t row = uint32_t(r) * uint32_t(W);
-        n += maskRowAvx512Body(predicted + row, depth + row, a, b, w, row, row_remap[r], out + n);
-    }
-    return n;
+    PNDT_FOOTPRINT_ROWS(maskRowAvx512Body);
 }
 
 MaskRowFn maskRowAvx2()
@@ -230,15 +227,7 @@ MaskFootprintFn maskFootprintAvx512() { return nullptr; }
 uint32_t maskFootprintScalar(const MaskFootprint& fp, double k2, const int32_t* predicted, const float* depth, int W,
                              DepthWindow w, const int32_t* const* row_remap, MaskSpan* out)
 {
-    uint32_t n = 0;
-    for (int r = fp.r0; r <= fp.r1; ++r)
-    {
-        int a, b;
-        if (!footprintRow(fp, r, k2, a, b)) continue;
-        const uint32_t row = uint32_t(r) * uint32_t(W);
-        n += maskRowScalar(predicted + row, depth + row, a, b, w, row, row_remap[r], out + n);
-    }
-    return n;
+    PNDT_FOOTPRINT_ROWS(maskRowScalar);
 }
 
 MaskFootprintFn bestMaskFootprint()
@@ -256,5 +245,7 @@ MaskRowFn bestMaskRow()
     if (const MaskRowFn avx2 = maskRowAvx2(); avx2 && cap >= SimdCap::Avx2) return avx2;
     return &maskRowScalar;
 }
+
+#undef PNDT_FOOTPRINT_ROWS
 
 }  // namespace pndt
