@@ -10,6 +10,7 @@
 #include <mrpt/system/datetime.h>
 #include <nlohmann/json.hpp>
 #include <pndt/app/map_rawlog.h>
+#include <pndt/io/atomic_file.h>
 #include <pndt/app/short_term_maps.h>
 #include <pndt/mrpt/CObservationPanopticMap.h>
 
@@ -123,6 +124,31 @@ TEST(MapRawlog, InterleavedInputsAndMapsAreInTimeOrder)
     EXPECT_EQ(back->frames, 4u);
     EXPECT_DOUBLE_EQ(mrpt::Clock::toDouble(back->start), 3.0);
     fs::remove_all(dir);
+}
+
+TEST(MapRawlog, AFullDiskIsAWriteErrorNamingTheFile)
+{
+    // /dev/full fails every write with ENOSPC. MRPT's archive wraps what a stream
+    // throws into its own exception, so the writer must hand back the sink's
+    // WriteError itself (pndt-map exits 3 on a WriteError, 1 on anything else).
+    if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+    MapRawlogWriter w({"/dev/full", "MY_MAPS"});
+    w.addMap(smallMap(2), 0, 1, 2, 0);
+    try
+    {
+        w.finish();
+        FAIL() << "no error on a full disk";
+    }
+    catch (const io::WriteError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("cannot write /dev/full: No space left on device"), std::string::npos)
+            << e.what();
+        EXPECT_EQ(std::string(e.what()).find("MRPT exception"), std::string::npos) << e.what();
+    }
+    catch (const std::exception& e)
+    {
+        FAIL() << "not a WriteError: " << e.what();
+    }
 }
 
 TEST(MapRawlog, ACrashLeavesAReadablePrefixOfCompleteObjects)

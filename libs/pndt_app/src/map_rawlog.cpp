@@ -13,6 +13,7 @@
 #include <climits>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 
 namespace pndt::app
 {
@@ -28,6 +29,8 @@ std::string gzMessage(void* gz)
 }
 
 /// The gzip file as an MRPT output stream (MRPT's CFileGZOutputStream cannot flush).
+/// MRPT's archive rethrows what Write() throws as its own exception, so the sink
+/// keeps the WriteError for run() to report as it is.
 class GzSink : public mrpt::io::CStream
 {
    public:
@@ -40,7 +43,11 @@ class GzSink : public mrpt::io::CStream
         {
             const unsigned chunk = unsigned(std::min<size_t>(count - done, size_t(INT_MAX) / 2));
             const int put = gzwrite(handle(gz_), p + done, chunk);
-            if (put <= 0) throw io::WriteError(fmt::format("cannot write {}: {}", path_, gzMessage(gz_)));
+            if (put <= 0)
+            {
+                failure_ = io::WriteError(fmt::format("cannot write {}: {}", path_, gzMessage(gz_)));
+                throw *failure_;
+            }
             done += size_t(put);
         }
         return count;
@@ -49,10 +56,12 @@ class GzSink : public mrpt::io::CStream
     uint64_t Seek(int64_t, CStream::TSeekOrigin) override { throw std::logic_error(path_ + ": cannot seek"); }
     uint64_t getTotalBytesCount() const override { return 0; }
     uint64_t getPosition() const override { return 0; }
+    const std::optional<io::WriteError>& failure() const { return failure_; }
 
    private:
     void* gz_;
     std::string path_;
+    std::optional<io::WriteError> failure_;
 };
 }  // namespace
 
@@ -153,7 +162,7 @@ void MapRawlogWriter::run()
         catch (...)
         {
             std::lock_guard<std::mutex> lock(mutex_);
-            if (!error_) error_ = std::current_exception();
+            if (!error_) error_ = sink.failure() ? std::make_exception_ptr(*sink.failure()) : std::current_exception();
         }
         const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         std::lock_guard<std::mutex> lock(mutex_);
