@@ -18,6 +18,10 @@
 #include <cstring>
 #include <type_traits>
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 #include "frame_pixels.h"
 #include "map_scratch.h"
 
@@ -28,6 +32,122 @@ namespace
 inline uint64_t packKey(int32_t x, int32_t y, int32_t z)
 {
     return VoxelKey{x, y, z}.packed();
+}
+
+/// A ray being walked voxel by voxel (Amanatides & Woo): the parameters t at
+/// which it crosses the next voxel boundary of each axis and their increments,
+/// its steps, its voxel within the current brick, that brick and its block.
+/// `enter` >= 0: the ray just entered the brick on that side of `blk`
+/// (-x,+x,-y,+y,-z,+z), whose block is not linked yet.
+struct RayWalk
+{
+    double t[3], d[3];
+    int32_t step[3], l[3], bc[3];
+    RayBlock* blk;
+    int enter = -1;
+};
+
+/// What stepRay notes of a piece of a ray: each voxel's block and slot, and
+/// which voxels the block had not met yet.
+template <int N>
+struct RayPiece
+{
+    RayBlock* block[N];
+    uint32_t slot[N];
+    uint32_t unseen[N];
+    int unseen_count = 0;
+};
+
+/// Notes voxels i..n-1 of a piece of the ray (`last`: the ray ends with the
+/// piece) and moves the ray on. Returns n, or earlier the index after a voxel
+/// whose step entered a brick not linked to the current block yet (`enter`
+/// set: the caller links it and calls again). The axis of the smallest t is
+/// taken, ties broken as walkSegment does (x before z, y before z, y before
+/// x). Out of line and without calls, so that the ray stays in registers, and
+/// without branches on the data (compare masks and selects): inlined in the
+/// walk, whose rare paths call out, the compiler kept the ray in memory and
+/// turned its selects into jumps that mispredict.
+template <int BB, int N>
+[[gnu::noinline]] int stepRay(RayWalk& r, RayPiece<N>& p, int i, int n, bool last)
+{
+    constexpr int32_t BM = (1 << BB) - 1;
+    int32_t lx = r.l[0], ly = r.l[1], lz = r.l[2];
+    int32_t bx = r.bc[0], by = r.bc[1], bz = r.bc[2];
+    const int32_t s0 = r.step[0], s1 = r.step[1], s2 = r.step[2];
+    // The side entered through, per axis taken: 2 axis + (step > 0).
+    const uint32_t e0 = uint32_t(s0 > 0), e1 = uint32_t(2 + (s1 > 0)), e2 = uint32_t(4 + (s2 > 0));
+    RayBlock* blk = r.blk;
+    int unseen = p.unseen_count;
+#ifdef __SSE2__
+    __m128d t0 = _mm_set_sd(r.t[0]), t1 = _mm_set_sd(r.t[1]), t2 = _mm_set_sd(r.t[2]);
+    const __m128d d0 = _mm_set_sd(r.d[0]), d1 = _mm_set_sd(r.d[1]), d2 = _mm_set_sd(r.d[2]);
+    const __m128d ones = _mm_castsi128_pd(_mm_set1_epi64x(-1));
+#else
+    double t0 = r.t[0], t1 = r.t[1], t2 = r.t[2];
+    const double d0 = r.d[0], d1 = r.d[1], d2 = r.d[2];
+#endif
+    while (i < n)
+    {
+        const uint32_t slot = uint32_t(lx) | (uint32_t(ly) << BB) | (uint32_t(lz) << (2 * BB));
+        p.block[i] = blk;
+        p.slot[i] = slot;
+        p.unseen[unseen] = uint32_t(i);
+        unseen += blk->state[slot] == RayBlock::kUnseen;
+        ++i;
+        if (last && i == n) break;  // no step past the ray's last voxel
+#ifdef __SSE2__
+        const __m128d c01 = _mm_cmplt_sd(t0, t1), c02 = _mm_cmplt_sd(t0, t2), c12 = _mm_cmplt_sd(t1, t2);
+        const __m128d mx = _mm_and_pd(c01, c02), my = _mm_andnot_pd(c01, c12);
+        const __m128d mz = _mm_xor_pd(_mm_or_pd(mx, my), ones);
+        t0 = _mm_add_sd(t0, _mm_and_pd(mx, d0));  // + 0 where the axis is not taken, as walkSegment
+        t1 = _mm_add_sd(t1, _mm_and_pd(my, d1));
+        t2 = _mm_add_sd(t2, _mm_and_pd(mz, d2));
+        const int32_t ax = -(_mm_movemask_pd(mx) & 1), ay = -(_mm_movemask_pd(my) & 1), az = -(_mm_movemask_pd(mz) & 1);
+#else
+        const bool c01 = t0 < t1, c02 = t0 < t2, c12 = t1 < t2;
+        const bool tx = c01 & c02, ty = !c01 & c12, tz = !(tx | ty);
+        t0 += tx ? d0 : 0.0;
+        t1 += ty ? d1 : 0.0;
+        t2 += tz ? d2 : 0.0;
+        const int32_t ax = -int32_t(tx), ay = -int32_t(ty), az = -int32_t(tz);
+#endif
+        lx += s0 & ax;
+        ly += s1 & ay;
+        lz += s2 & az;
+        const int32_t out = -int32_t(((lx | ly | lz) & ~BM) != 0);  // left the brick
+        lx &= BM;
+        ly &= BM;
+        lz &= BM;
+        bx += s0 & ax & out;
+        by += s1 & ay & out;
+        bz += s2 & az & out;
+        const uint32_t side = (e0 & uint32_t(ax)) | (e1 & uint32_t(ay)) | (e2 & uint32_t(az));
+        RayBlock* nb = blk->neighbour[side];
+        if (out & -int32_t(nb == nullptr))
+        {
+            r.enter = int(side);
+            break;
+        }
+        blk = out ? nb : blk;
+    }
+#ifdef __SSE2__
+    r.t[0] = _mm_cvtsd_f64(t0);
+    r.t[1] = _mm_cvtsd_f64(t1);
+    r.t[2] = _mm_cvtsd_f64(t2);
+#else
+    r.t[0] = t0;
+    r.t[1] = t1;
+    r.t[2] = t2;
+#endif
+    r.l[0] = lx;
+    r.l[1] = ly;
+    r.l[2] = lz;
+    r.bc[0] = bx;
+    r.bc[1] = by;
+    r.bc[2] = bz;
+    r.blk = blk;
+    p.unseen_count = unseen;
+    return i;
 }
 
 /// Per-frame constants of the projection (see ProjectionSetup).
@@ -581,10 +701,9 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
         blk->slots = sb == kNoRecord ? nullptr : store_.slotsOf(sb);
         return blk;
     };
-    // First visit of a voxel by this task: may it get a miss, and by which rule.
-    const auto classify = [&](const RayBlock& blk, uint32_t slot) -> int32_t {
-        if (!blk.slots) return RayBlock::kConstant;
-        const uint32_t vi = blk.slots[slot];
+    // First visit of a voxel by this task (its record, or kNoRecord): may it
+    // get a miss, and by which rule.
+    const auto classify = [&](uint32_t vi) -> int32_t {
         if (vi == kNoRecord) return RayBlock::kConstant;
         if (hit_bits[vi >> 6] >> (vi & 63) & 1) return RayBlock::kSkip;  // a hit this frame wins
         if (!ndt) return RayBlock::kConstant;
@@ -600,17 +719,13 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
         return int32_t(w.gaussian_count);
     };
 
-    // One ray being walked (Amanatides & Woo, as walkSegment: the voxels from
-    // the origin's up to but excluding the endpoint's, one per unit of
-    // Manhattan distance). (Walking two rays in turn, to overlap their chains
-    // of dependent operations, measured 10% slower.)
+    // One ray (Amanatides & Woo, as walkSegment: the voxels from the origin's
+    // up to but excluding the endpoint's, one per unit of Manhattan distance):
+    // its walk, and what its misses depend on.
     struct Lane
     {
-        double t0, t1, t2, d0, d1, d2;
-        int32_t lx, ly, lz, s0, s1, s2;
-        int32_t bc[3];
+        RayWalk walk;
         int remaining = 0;
-        RayBlock* blk;
         Eigen::Vector3d dir, end;
         double sigma_end;
     };
@@ -665,92 +780,93 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
             L.sigma_end = options_.sensor_sigma_base + options_.sensor_sigma_quadratic * range * range;
             L.dir = d;
             L.end = end;
-            L.t0 = t_max[0];
-            L.t1 = t_max[1];
-            L.t2 = t_max[2];
-            L.d0 = t_delta[0];
-            L.d1 = t_delta[1];
-            L.d2 = t_delta[2];
-            L.s0 = step[0];
-            L.s1 = step[1];
-            L.s2 = step[2];
-            for (int a = 0; a < 3; ++a) L.bc[a] = k[a] >> BB;
-            L.lx = k[0] & BM;
-            L.ly = k[1] & BM;
-            L.lz = k[2] & BM;
+            RayWalk& r = L.walk;
+            for (int a = 0; a < 3; ++a)
+            {
+                r.t[a] = t_max[a];
+                r.d[a] = t_delta[a];
+                r.step[a] = step[a];
+                r.l[a] = k[a] & BM;
+                r.bc[a] = k[a] >> BB;
+            }
             L.remaining = remaining;
-            L.blk = blockOf(L.bc[0], L.bc[1], L.bc[2]);
+            r.blk = blockOf(r.bc[0], r.bc[1], r.bc[2]);
+            r.enter = -1;
             return true;
         }
         return false;
     };
-    // The current voxel of a ray gets its miss; then the ray moves on. False
-    // when the ray is done.
-    const auto advance = [&](Lane& L, auto per_ray_tag) -> bool {
+    // Walks every ray, a piece of up to kPiece voxels at a time: stepRay notes
+    // the voxels' blocks and slots and which of them this task meets first;
+    // their records are then looked up together (a record is a cache miss more
+    // often than not: its load starts before the one before it is needed),
+    // and last every voxel gets its miss.
+    constexpr int kPiece = 128;
+    const auto walk = [&](auto per_ray_tag) {
         constexpr bool kPerRay = decltype(per_ray_tag)::value;  // no test per step for the mode
-        RayBlock* blk = L.blk;
-        const uint32_t slot = uint32_t(L.lx) | (uint32_t(L.ly) << BB) | (uint32_t(L.lz) << (2 * BB));
-        int32_t state = blk->state[slot];
-        if (state == RayBlock::kUnseen)
+        RayPiece<kPiece> p;
+        uint32_t record[kPiece];
+        Lane L;
+        while (start(L))
         {
-            state = classify(*blk, slot);
-            blk->state[slot] = state;
-            blk->touched[slot >> 6] |= uint64_t(1) << (slot & 63);
-        }
-        if (state > 0)  // a Gaussian: the miss depends on the ray
-        {
-            MissGaussian& g = w.gaussians[size_t(state - 1)];
-            const float delta = float(rule(g.mean, g.info, origin, L.dir, L.end, L.sigma_end));
-            if constexpr (kPerRay)
-                g.sum += std::llround(double(delta) / kMissQuantum);
-            else if (delta < g.delta)
-                g.delta = delta;
-        }
-        else if constexpr (kPerRay)
-        {
-            if (state == RayBlock::kConstant) ++blk->crossings[slot];
-        }
-        if (--L.remaining == 0) return false;
-        // Next voxel, without branches: the axis of the smallest t_max, ties
-        // broken as walkSegment does (x before z, y before z, y before x).
-        const bool c01 = L.t0 < L.t1, c02 = L.t0 < L.t2, c12 = L.t1 < L.t2;
-        const bool ax = c01 & c02, ay = !c01 & c12, az = !(ax | ay);
-        L.t0 += ax ? L.d0 : 0.0;
-        L.t1 += ay ? L.d1 : 0.0;
-        L.t2 += az ? L.d2 : 0.0;
-        L.lx += ax ? L.s0 : 0;
-        L.ly += ay ? L.s1 : 0;
-        L.lz += az ? L.s2 : 0;
-        if ((L.lx | L.ly | L.lz) & ~BM)  // left the brick: to the neighbour on that side
-        {
-            const int a = ax ? 0 : ay ? 1 : 2;
-            const int st = a == 0 ? L.s0 : a == 1 ? L.s1 : L.s2;
-            L.lx &= BM;
-            L.ly &= BM;
-            L.lz &= BM;
-            L.bc[a] += st;
-            RayBlock*& nb = blk->neighbour[2 * a + (st > 0)];
-            if (!nb)
+            RayWalk& ray = L.walk;
+            for (int left = L.remaining; left > 0;)
             {
-                nb = blockOf(L.bc[0], L.bc[1], L.bc[2]);
-                nb->neighbour[2 * a + (st < 0)] = blk;
+                const int n = std::min(left, kPiece);
+                left -= n;
+                p.unseen_count = 0;
+                for (int i = 0; i < n;)
+                {
+                    i = stepRay<BB>(ray, p, i, n, left == 0);
+                    if (ray.enter >= 0)  // into a brick this task has not linked from here
+                    {
+                        RayBlock* nb = blockOf(ray.bc[0], ray.bc[1], ray.bc[2]);
+                        ray.blk->neighbour[ray.enter] = nb;
+                        nb->neighbour[ray.enter ^ 1] = ray.blk;
+                        ray.blk = nb;
+                        ray.enter = -1;
+                    }
+                }
+                for (int k = 0; k < p.unseen_count; ++k)
+                {
+                    const int i = int(p.unseen[k]);
+                    const uint32_t* slots = p.block[i]->slots;
+                    const uint32_t vi = slots ? slots[p.slot[i]] : kNoRecord;
+                    record[k] = vi;
+                    if (vi != kNoRecord) __builtin_prefetch(&store_[vi]);
+                }
+                for (int k = 0; k < p.unseen_count; ++k)
+                {
+                    const int i = int(p.unseen[k]);
+                    RayBlock& b = *p.block[i];
+                    const uint32_t slot = p.slot[i];
+                    b.state[slot] = classify(record[k]);
+                    b.touched[slot >> 6] |= uint64_t(1) << (slot & 63);
+                }
+                for (int i = 0; i < n; ++i)
+                {
+                    const int32_t state = p.block[i]->state[p.slot[i]];
+                    if (state > 0)  // a Gaussian: the miss depends on the ray
+                    {
+                        MissGaussian& g = w.gaussians[size_t(state - 1)];
+                        const float delta = float(rule(g.mean, g.info, origin, L.dir, L.end, L.sigma_end));
+                        if constexpr (kPerRay)
+                            g.sum += std::llround(double(delta) / kMissQuantum);
+                        else if (delta < g.delta)
+                            g.delta = delta;
+                    }
+                    else if constexpr (kPerRay)
+                    {
+                        if (state == RayBlock::kConstant) ++p.block[i]->crossings[p.slot[i]];
+                    }
+                }
             }
-            L.blk = nb;
         }
-        return true;
     };
-
-    Lane L;
     if (per_ray)
-        while (start(L))
-            while (advance(L, std::true_type{}))
-            {
-            }
+        walk(std::true_type{});
     else
-        while (start(L))
-            while (advance(L, std::false_type{}))
-            {
-            }
+        walk(std::false_type{});
     w.steps += steps;
 }
 
