@@ -731,6 +731,7 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
     };
     size_t next = i0;
     uint64_t steps = 0;
+    RayBlock* origin_block = nullptr;
     // Loads the next ray with at least one voxel to walk; false when none is left.
     const auto start = [&](Lane& L) -> bool {
         while (next < i1)
@@ -790,7 +791,8 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
                 r.bc[a] = k[a] >> BB;
             }
             L.remaining = remaining;
-            r.blk = blockOf(r.bc[0], r.bc[1], r.bc[2]);
+            if (!origin_block) origin_block = blockOf(r.bc[0], r.bc[1], r.bc[2]);  // every ray's first
+            r.blk = origin_block;
             r.enter = -1;
             return true;
         }
