@@ -68,7 +68,7 @@ struct RayPiece
 /// walk, whose rare paths call out, the compiler kept the ray in memory and
 /// turned its selects into jumps that mispredict.
 template <int BB, int N>
-[[gnu::noinline]] int stepRay(RayWalk& r, RayPiece<N>& p, int i, int n, bool last)
+[[gnu::always_inline]] inline int stepRayImpl(RayWalk& r, RayPiece<N>& p, int i, int n, bool last)
 {
     constexpr int32_t BM = (1 << BB) - 1;
     int32_t lx = r.l[0], ly = r.l[1], lz = r.l[2];
@@ -149,6 +149,24 @@ template <int BB, int N>
     p.unseen_count = unseen;
     return i;
 }
+
+constexpr int kRayPiece = 128;  ///< voxels of a ray stepped before they get their misses
+using RayPieceOf = RayPiece<kRayPiece>;
+using StepRayFn = int (*)(RayWalk&, RayPieceOf&, int, int, bool);
+[[gnu::noinline]] int stepRayPortable(RayWalk& r, RayPieceOf& p, int i, int n, bool last)
+{
+    return stepRayImpl<VoxelStore::kBrickBits>(r, p, i, n, last);
+}
+#if defined(__x86_64__) && defined(__GNUC__)
+// Three-operand (VEX) forms: the SSE2 build copies registers before each compare.
+[[gnu::target("avx2"), gnu::noinline]] int stepRayAvx2(RayWalk& r, RayPieceOf& p, int i, int n, bool last)
+{
+    return stepRayImpl<VoxelStore::kBrickBits>(r, p, i, n, last);
+}
+StepRayFn bestStepRay() { return simdCap() >= SimdCap::Avx2 ? stepRayAvx2 : stepRayPortable; }
+#else
+StepRayFn bestStepRay() { return stepRayPortable; }
+#endif
 
 /// Per-frame constants of the projection (see ProjectionSetup).
 void setupProjection(const CameraIntrinsics& K, const Pose& T, double voxel_size, double max_range,
@@ -803,7 +821,8 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
     // their records are then looked up together (a record is a cache miss more
     // often than not: its load starts before the one before it is needed),
     // and last every voxel gets its miss.
-    constexpr int kPiece = 128;
+    constexpr int kPiece = kRayPiece;
+    const StepRayFn stepRay = bestStepRay();
     const auto walk = [&](auto per_ray_tag) {
         constexpr bool kPerRay = decltype(per_ray_tag)::value;  // no test per step for the mode
         RayPiece<kPiece> p;
@@ -819,7 +838,7 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
                 p.unseen_count = 0;
                 for (int i = 0; i < n;)
                 {
-                    i = stepRay<BB>(ray, p, i, n, left == 0);
+                    i = stepRay(ray, p, i, n, left == 0);
                     if (ray.enter >= 0)  // into a brick this task has not linked from here
                     {
                         RayBlock* nb = blockOf(ray.bc[0], ray.bc[1], ray.bc[2]);
