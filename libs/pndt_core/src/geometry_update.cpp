@@ -36,13 +36,13 @@ inline uint64_t packKey(int32_t x, int32_t y, int32_t z)
 
 /// A ray being walked voxel by voxel (Amanatides & Woo): the parameters t at
 /// which it crosses the next voxel boundary of each axis and their increments,
-/// its steps, its voxel within the current brick, that brick and its block.
+/// its steps, its voxel within the current brick and that brick's block.
 /// `enter` >= 0: the ray just entered the brick on that side of `blk`
 /// (-x,+x,-y,+y,-z,+z), whose block is not linked yet.
 struct RayWalk
 {
     double t[3], d[3];
-    int32_t step[3], l[3], bc[3];
+    int32_t step[3], l[3];
     RayBlock* blk;
     int enter = -1;
 };
@@ -72,7 +72,6 @@ template <int BB, int N>
 {
     constexpr int32_t BM = (1 << BB) - 1;
     int32_t lx = r.l[0], ly = r.l[1], lz = r.l[2];
-    int32_t bx = r.bc[0], by = r.bc[1], bz = r.bc[2];
     const int32_t s0 = r.step[0], s1 = r.step[1], s2 = r.step[2];
     // The side entered through, per axis taken: 2 axis + (step > 0).
     const uint32_t e0 = uint32_t(s0 > 0), e1 = uint32_t(2 + (s1 > 0)), e2 = uint32_t(4 + (s2 > 0));
@@ -118,9 +117,6 @@ template <int BB, int N>
         lx &= BM;
         ly &= BM;
         lz &= BM;
-        bx += s0 & ax & out;
-        by += s1 & ay & out;
-        bz += s2 & az & out;
         const uint32_t side = (e0 & uint32_t(ax)) | (e1 & uint32_t(ay)) | (e2 & uint32_t(az));
         RayBlock* nb = blk->neighbour[side];
         if (out & -int32_t(nb == nullptr))
@@ -142,9 +138,6 @@ template <int BB, int N>
     r.l[0] = lx;
     r.l[1] = ly;
     r.l[2] = lz;
-    r.bc[0] = bx;
-    r.bc[1] = by;
-    r.bc[2] = bz;
     r.blk = blk;
     p.unseen_count = unseen;
     return i;
@@ -806,10 +799,9 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
                 r.d[a] = t_delta[a];
                 r.step[a] = step[a];
                 r.l[a] = k[a] & BM;
-                r.bc[a] = k[a] >> BB;
             }
             L.remaining = remaining;
-            if (!origin_block) origin_block = blockOf(r.bc[0], r.bc[1], r.bc[2]);  // every ray's first
+            if (!origin_block) origin_block = blockOf(k[0] >> BB, k[1] >> BB, k[2] >> BB);  // every ray's first
             r.blk = origin_block;
             r.enter = -1;
             return true;
@@ -841,7 +833,12 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
                     i = stepRay(ray, p, i, n, left == 0);
                     if (ray.enter >= 0)  // into a brick this task has not linked from here
                     {
-                        RayBlock* nb = blockOf(ray.bc[0], ray.bc[1], ray.bc[2]);
+                        // (the brick's coordinates from the block's key: fewer values
+                        // for stepRay to keep in registers)
+                        const VoxelKey from = VoxelKey::unpack(ray.blk->brick_key);
+                        int32_t bc[3] = {from.x, from.y, from.z};
+                        bc[ray.enter >> 1] += (ray.enter & 1) ? 1 : -1;
+                        RayBlock* nb = blockOf(bc[0], bc[1], bc[2]);
                         ray.blk->neighbour[ray.enter] = nb;
                         nb->neighbour[ray.enter ^ 1] = ray.blk;
                         ray.blk = nb;
