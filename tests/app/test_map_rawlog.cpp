@@ -1,7 +1,8 @@
 // maps.rawlog (issue #21): the writer keeps time order when interleaving input
 // observations, a truncated file (a crash) reads back its complete objects with
 // MRPT's own reader and rawlog-edit, ShortTermMaps appends one observation per
-// map, and pndt-map's output is listed and cut by the stock rawlog-edit.
+// map, pndt-map's output is listed and cut by the stock rawlog-edit, and a full
+// disk is reported as a write error naming the file.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <mrpt/io/CFileGZInputStream.h>
@@ -10,8 +11,8 @@
 #include <mrpt/system/datetime.h>
 #include <nlohmann/json.hpp>
 #include <pndt/app/map_rawlog.h>
-#include <pndt/io/atomic_file.h>
 #include <pndt/app/short_term_maps.h>
+#include <pndt/io/atomic_file.h>
 #include <pndt/mrpt/CObservationPanopticMap.h>
 
 #include <chrono>
