@@ -809,25 +809,24 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
         }
         return false;
     };
-    // Walks every ray, a piece of up to kPiece voxels at a time: stepRay notes
+    // Walks every ray, a piece of up to kRayPiece voxels at a time: stepRay notes
     // the voxels' blocks and slots and which of them this task meets first;
     // their records are then looked up together (a record is a cache miss more
     // often than not: its load starts before the one before it is needed),
     // and last every voxel gets its miss. (Two rays stepped in turn measured
     // slower: the stepping is bound by its instructions, not by its chains.)
-    constexpr int kPiece = kRayPiece;
     const StepRayFn stepRay = bestStepRay();
     const auto walk = [&](auto per_ray_tag) {
         constexpr bool kPerRay = decltype(per_ray_tag)::value;  // no test per step for the mode
-        RayPiece<kPiece> p;
-        uint32_t record[kPiece];
+        RayPieceOf p;
+        uint32_t record[kRayPiece];
         Lane L;
         while (start(L))
         {
             RayWalk& ray = L.walk;
             for (int left = L.remaining; left > 0;)
             {
-                const int n = std::min(left, kPiece);
+                const int n = std::min(left, kRayPiece);
                 left -= n;
                 p.unseen_count = 0;
                 for (int i = 0; i < n;)
