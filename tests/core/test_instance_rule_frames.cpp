@@ -106,6 +106,30 @@ TEST(InstanceRuleFrames, FragmentsMergeWithTheOtherRulesOff)
         }
 }
 
+TEST(InstanceRuleFrames, FrameTotalsCountSplitsAndMergedFragments)
+{
+    // FrameStats::operator+= once dropped these two counters: a run's totals
+    // said no prediction was ever split and no fragment merged.
+    MapOptions o;
+    o.fragment_merge_frames = 3;
+    PanopticMap map(o);
+    FrameStats totals;
+    uint64_t splits = 0, merges = 0;
+    const auto frame = [&](const PanopticFrame& f) {
+        const FrameStats st = map.integrate(f, Pose::Identity());
+        splits += st.split_predictions;
+        merges += st.merged_fragments;
+        totals += st;
+    };
+    for (int i = 0; i < 3; ++i) frame(wallWith({{0, 16, kChair, 1}, {40, 56, kChair, 2}}));
+    frame(wallWith({{0, 32, kTable, 3}}));
+    for (int i = 0; i < 8; ++i) frame(wallWith({{0, 56, kChair, 7}}));
+    ASSERT_GE(splits, 1u);
+    ASSERT_GE(merges, 1u);
+    EXPECT_EQ(totals.split_predictions, splits);
+    EXPECT_EQ(totals.merged_fragments, merges);
+}
+
 TEST(InstanceRuleFrames, NoFragmentMergeWhenTheRuleIsOff)
 {
     PanopticMap map(paperRules());

@@ -242,6 +242,30 @@ TEST(ThreadsIdentical, ThePapersPerRayMissesAndDenseHistograms)
     }
 }
 
+TEST(ThreadsIdentical, SplitPredictionsAndInstanceClasses)
+{
+    // From the third frame on, every other frame predicts all things as one
+    // instance: that prediction swallows map instances of other classes, so the
+    // split rule (classes of the map instances in view, split pixels written in
+    // row bands) runs with many voxels, and must give the same bits.
+    Frames d = roomFrames(8, 640, 480);
+    for (size_t i = 2; i < d.frames.size(); i += 2)
+        for (auto& z : d.frames[i].instance.data) z = z ? 7 : 0;
+    MapOptions o;
+    o.voxel_size = 0.05;
+    o.threads = 1;
+    const Built one = build(d, o);
+    ASSERT_GT(one.totals.split_predictions, 2u);
+    for (int threads : {2, 3})
+    {
+        SCOPED_TRACE(threads);
+        o.threads = threads;
+        const Built many = build(d, o);
+        EXPECT_EQ(one.totals.split_predictions, many.totals.split_predictions);
+        expectIdentical(one, many);
+    }
+}
+
 TEST(ThreadsIdentical, ThreadsCanChangeBetweenFrames)
 {
     // A copy of a map continues like the original, whatever its thread count.

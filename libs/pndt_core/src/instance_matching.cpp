@@ -464,23 +464,40 @@ void PanopticMap::mergeFragments(FrameStats& st)
 void PanopticMap::classifyMapInstances()
 {
     Scratch& s = *scratch_;
-    const size_t G = s.groups.size();
+    const size_t G = s.groups.size(), C = s.candidates.size();
     // Class of each map instance: the thing class with the most semantic mass over
-    // its voxels in view (the propagation rule, on what the frame sees).
+    // its voxels in view (the propagation rule, on what the frame sees). Groups
+    // are independent: tasks take groups by their first candidate, so that each
+    // does about as many voxels (one instance may hold most of them).
     const ClassSet& classes = options_.classes;
-    s.class_mass.resize(classes.size());
     s.group_class.assign(G, 0);
-    for (size_t gi = 0; gi < G; ++gi)
-    {
-        std::fill(s.class_mass.begin(), s.class_mass.end(), 0.f);
-        for (size_t c = s.groups[gi].first; c < s.groups[gi].second; ++c)
+    const int tasks = s.pool && C >= 1024 ? 4 * s.threads : 1;
+    if (s.class_mass.size() < size_t(tasks)) s.class_mass.resize(size_t(tasks));
+    const auto classify = [&](int t) {
+        std::vector<float>& mass = s.class_mass[size_t(t)];
+        mass.resize(classes.size());
+        const auto firstGroupFrom = [&](size_t c) {
+            return size_t(std::partition_point(s.groups.begin(), s.groups.end(),
+                                               [c](const std::pair<size_t, size_t>& g) { return g.first < c; }) -
+                          s.groups.begin());
+        };
+        for (size_t gi = firstGroupFrom(C * size_t(t) / size_t(tasks)), ge = firstGroupFrom(C * size_t(t + 1) / size_t(tasks));
+             gi < ge; ++gi)
         {
-            const Voxel& v = store_[s.candidates[c].second];
-            addThingMass(*labelsOf(v), classes, s.class_mass.data(), spillOf(v));
+            std::fill(mass.begin(), mass.end(), 0.f);
+            for (size_t c = s.groups[gi].first; c < s.groups[gi].second; ++c)
+            {
+                const Voxel& v = store_[s.candidates[c].second];
+                addThingMass(*labelsOf(v), classes, mass.data(), spillOf(v));
+            }
+            const auto best = std::max_element(mass.begin(), mass.end());
+            if (*best > 0) s.group_class[gi] = uint16_t(best - mass.begin());
         }
-        const auto best = std::max_element(s.class_mass.begin(), s.class_mass.end());
-        if (*best > 0) s.group_class[gi] = uint16_t(best - s.class_mass.begin());
-    }
+    };
+    if (tasks > 1)
+        s.pool->run(tasks, classify);
+    else
+        classify(0);
 }
 
 void PanopticMap::splitMergedPredictions(const FramePixels& f, FrameStats& st)
@@ -500,11 +517,13 @@ void PanopticMap::splitMergedPredictions(const FramePixels& f, FrameStats& st)
         s.split_counter = 0;
     }
     const uint32_t stamp = ++s.split_counter;
+    // The splits, in (map instance, prediction) order: later ones overwrite
+    // earlier ones' pixels.
+    s.splits.clear();
     for (size_t gi = 0; gi < G; ++gi)
     {
         const uint16_t gc = s.group_class[gi];
         if (gc == 0 || s.group_area[gi] == 0) continue;
-        const uint32_t z = s.candidates[s.groups[gi].first].first;
         for (size_t p = 0; p < P; ++p)
         {
             if (g.cls[p] == 0 || g.cls[p] == gc || s.assignment[p] == int32_t(gi)) continue;
@@ -512,23 +531,71 @@ void PanopticMap::splitMergedPredictions(const FramePixels& f, FrameStats& st)
             // p swallowed most of a map instance of another class: its pixels there
             // keep that instance, except on voxels that are of p's class themselves
             // (an early merge in the map that p now resolves).
-            ++st.split_predictions;
-            s.split_pixels = true;
-            for (size_t c = s.groups[gi].first; c < s.groups[gi].second; ++c)
-                if (const Voxel& v = store_[s.candidates[c].second]; ownThingClass(*labelsOf(v), classes, spillOf(v)) != g.cls[p])
-                {
-                    const uint32_t u = s.candidates[c].thing;
-                    const MaskSpan* sp = s.mask_spans.data() + s.thing_spans[u];
-                    for (const MaskSpan* end = sp + s.thing_span_count[u]; sp < end; ++sp)
-                        if (sp->predicted == int32_t(p))
-                        {
-                            // Two fills, not one loop over both arrays: that loop was not vectorised.
-                            std::fill(s.split_stamp.begin() + sp->begin, s.split_stamp.begin() + sp->end, stamp);
-                            std::fill(s.split_id.begin() + sp->begin, s.split_id.begin() + sp->end, z);
-                        }
-                }
+            s.splits.push_back({uint32_t(gi), uint32_t(p)});
         }
     }
+    if (s.splits.empty()) return;
+    st.split_predictions += s.splits.size();
+    s.split_pixels = true;
+    const int threads = s.pool ? s.threads : 1;
+    // Each candidate's own class, once (a voxel may be split by several
+    // predictions), in parallel: four dependent reads per voxel.
+    s.own_class.resize(s.candidates.size());
+    const auto ownClasses = [&](size_t i_begin, size_t i_end) {
+        for (size_t i = i_begin; i < i_end; ++i)
+        {
+            const auto [gi, p] = s.splits[i];
+            if (i > 0 && s.splits[i - 1].first == gi) continue;  // the group's voxels are done
+            for (size_t c = s.groups[gi].first; c < s.groups[gi].second; ++c)
+            {
+                const Voxel& v = store_[s.candidates[c].second];
+                s.own_class[c] = ownThingClass(*labelsOf(v), classes, spillOf(v));
+            }
+        }
+    };
+    const int class_tasks = threads > 1 && s.splits.size() > 1 ? std::min(4 * threads, int(s.splits.size())) : 1;
+    if (class_tasks > 1)
+        s.pool->run(class_tasks, [&](int t) {
+            ownClasses(s.splits.size() * size_t(t) / size_t(class_tasks),
+                       s.splits.size() * size_t(t + 1) / size_t(class_tasks));
+        });
+    else
+        ownClasses(0, s.splits.size());
+    // The pixels, in row bands: a pixel lies in one band, and within it the
+    // splits write in the order above.
+    const int W = f.depth.width, H = f.depth.height;
+    const int bands = threads > 1 ? 4 * threads : 1;
+    const auto band = [&](int b) {
+        const int row_begin = H * b / bands, row_end = H * (b + 1) / bands;
+        const uint32_t pixel_begin = uint32_t(row_begin) * uint32_t(W), pixel_end = uint32_t(row_end) * uint32_t(W);
+        const auto before = [](const MaskSpan& x, uint32_t i) { return x.begin < i; };
+        for (const auto& [gi, p] : s.splits)
+        {
+            const uint32_t z = s.candidates[s.groups[gi].first].first;
+            for (size_t c = s.groups[gi].first; c < s.groups[gi].second; ++c)
+            {
+                if (s.own_class[c] == g.cls[p]) continue;
+                const uint32_t u = s.candidates[c].thing;
+                const MaskFootprint& fp = s.footprints[u];
+                if (std::max(fp.r0, row_begin) >= std::min(fp.r1 + 1, row_end)) continue;
+                const MaskSpan* sp = s.mask_spans.data() + s.thing_spans[u];
+                const MaskSpan* end = sp + s.thing_span_count[u];
+                if (fp.r0 < row_begin) sp = std::lower_bound(sp, end, pixel_begin, before);
+                if (fp.r1 >= row_end) end = std::lower_bound(sp, end, pixel_end, before);
+                for (; sp < end; ++sp)
+                    if (sp->predicted == int32_t(p))
+                    {
+                        // Two fills, not one loop over both arrays: that loop was not vectorised.
+                        std::fill(s.split_stamp.begin() + sp->begin, s.split_stamp.begin() + sp->end, stamp);
+                        std::fill(s.split_id.begin() + sp->begin, s.split_id.begin() + sp->end, z);
+                    }
+            }
+        }
+    };
+    if (bands > 1)
+        s.pool->run(bands, band);
+    else
+        band(0);
 }
 
 MaskFootprint PanopticMap::maskFootprint(uint32_t voxel, const Pose& T_cam_world, const CameraIntrinsics& K) const

@@ -416,9 +416,11 @@ struct PanopticMap::Scratch
     std::vector<MaskFootprint> footprints;               ///< per thing voxel
     std::vector<double> iou;                             ///< per group x predicted
     std::vector<int32_t> assignment;                     ///< per predicted: group, kAssignNew/Ambiguous
-    std::vector<float> class_mass;                       ///< per class, one group at a time
+    std::vector<std::vector<float>> class_mass;          ///< per task: per class, one group at a time
     std::vector<uint16_t> group_class;                   ///< per group: its thing class, 0 = none
     std::vector<uint32_t> split_stamp, split_id;         ///< per pixel: map id where a merge was split
+    std::vector<std::pair<uint32_t, uint32_t>> splits;   ///< this frame's (group, predicted) splits, in order
+    std::vector<uint16_t> own_class;                     ///< per candidate of a split group: its voxel's own thing class
     uint32_t split_counter = 0;
     bool split_pixels = false;                           ///< this frame split a prediction
     std::vector<int32_t> coverer;                        ///< per group: the prediction covering most of it, or -1
