@@ -481,8 +481,8 @@ void PanopticMap::classifyMapInstances()
                                                [c](const std::pair<size_t, size_t>& g) { return g.first < c; }) -
                           s.groups.begin());
         };
-        for (size_t gi = firstGroupFrom(C * size_t(t) / size_t(tasks)), ge = firstGroupFrom(C * size_t(t + 1) / size_t(tasks));
-             gi < ge; ++gi)
+        const size_t g_end = firstGroupFrom(C * size_t(t + 1) / size_t(tasks));
+        for (size_t gi = firstGroupFrom(C * size_t(t) / size_t(tasks)); gi < g_end; ++gi)
         {
             std::fill(mass.begin(), mass.end(), 0.f);
             for (size_t c = s.groups[gi].first; c < s.groups[gi].second; ++c)
@@ -544,7 +544,7 @@ void PanopticMap::splitMergedPredictions(const FramePixels& f, FrameStats& st)
     const auto ownClasses = [&](size_t i_begin, size_t i_end) {
         for (size_t i = i_begin; i < i_end; ++i)
         {
-            const auto [gi, p] = s.splits[i];
+            const uint32_t gi = s.splits[i].first;
             if (i > 0 && s.splits[i - 1].first == gi) continue;  // the group's voxels are done
             for (size_t c = s.groups[gi].first; c < s.groups[gi].second; ++c)
             {
