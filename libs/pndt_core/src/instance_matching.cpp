@@ -200,17 +200,45 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
     s.thing_base[0] = 0;
     for (int t = 0; t < parts; ++t) s.thing_base[size_t(t) + 1] = s.thing_base[size_t(t)] + uint32_t(s.thing_parts[size_t(t)].size());
     s.thing_voxel.resize(s.thing_base[size_t(parts)]);
-    for (int t = 0; t < parts; ++t)
+    // Each share's thing voxels and numbers joined, then the sorted shares
+    // merged in pairs, level by level, each level's merges in parallel.
+    const auto join = [&](int t) {
         std::copy(s.thing_parts[size_t(t)].begin(), s.thing_parts[size_t(t)].end(),
                   s.thing_voxel.begin() + s.thing_base[size_t(t)]);
-    s.candidates.swap(s.candidate_parts[0]);
-    for (int t = 1; t < parts; ++t)
+        for (MaskCandidate& c : s.candidate_parts[size_t(t)]) c.thing += s.thing_base[size_t(t)];
+    };
+    if (parts > 1)
+        s.pool->run(parts, join);
+    else
+        join(0);
+    // Levels go from the shares to two sets of merge buffers in turn, the last
+    // into the candidates: no buffer changes hands, so each keeps its capacity
+    // (a share does: the sort may swap it with its scratch).
+    if (parts == 1) s.candidates.swap(s.candidate_parts[0]);
+    if (s.candidate_merge.size() < 2 * size_t(parts)) s.candidate_merge.resize(2 * size_t(parts));
+    std::vector<MaskCandidate>*from = s.candidate_parts.data(), *to = s.candidate_merge.data();
+    std::vector<MaskCandidate>* spare = to + parts;
+    for (int w = 1; w < parts; w *= 2)
     {
-        auto& part = s.candidate_parts[size_t(t)];
-        for (MaskCandidate& c : part) c.thing += s.thing_base[size_t(t)];
-        s.candidate_merge.resize(s.candidates.size() + part.size());
-        std::merge(s.candidates.begin(), s.candidates.end(), part.begin(), part.end(), s.candidate_merge.begin());
-        s.candidates.swap(s.candidate_merge);
+        const bool last = 2 * w >= parts;
+        const auto mergePair = [&](int m) {
+            const size_t a = size_t(2 * w * m), b = a + size_t(w);
+            std::vector<MaskCandidate>& out = last ? s.candidates : to[a];
+            if (b >= size_t(parts))
+            {
+                out.assign(from[a].begin(), from[a].end());  // no partner at this level
+                return;
+            }
+            out.resize(from[a].size() + from[b].size());
+            std::merge(from[a].begin(), from[a].end(), from[b].begin(), from[b].end(), out.begin());
+        };
+        const int merges = (parts + 2 * w - 1) / (2 * w);
+        if (merges > 1)
+            s.pool->run(merges, mergePair);
+        else
+            mergePair(0);
+        from = to;
+        std::swap(to, spare);
     }
     s.groups.clear();
     for (size_t a = 0; a < s.candidates.size();)

@@ -398,8 +398,8 @@ struct PanopticMap::Scratch
     std::vector<int32_t> pixel_predicted;                ///< per pixel its band's local index, -1 none, kUnmappedPixel
     std::vector<MaskCandidate> candidates;               ///< (map instance, voxel index, thing), sorted
     std::vector<std::vector<MaskCandidate>> candidate_parts;  ///< per task, sorted
-    std::vector<MaskCandidate> candidate_merge;          ///< merge buffer
     std::vector<std::vector<MaskCandidate>> candidate_sort_tmp;  ///< per task, sorting scratch
+    std::vector<std::vector<MaskCandidate>> candidate_merge;     ///< two per task: the merge levels' outputs
     std::vector<std::vector<uint32_t>> thing_parts;      ///< per task: hit slots of its thing voxels
     std::vector<uint32_t> thing_base;                    ///< per task: index of its first thing voxel
     std::vector<uint32_t> thing_voxel;                   ///< per thing voxel of the frame: its store index
