@@ -184,7 +184,10 @@ TEST(InstanceRuleFrames, AFreedVoxelKeepsItsLabelsUnlessResetIsOn)
         const LabelRecord* rec = map.labelsOf(v);  // wiped records stay allocated for reuse
         ASSERT_NE(rec, nullptr);
         EXPECT_EQ(rec->semantic.empty(), reset);
-        if (!reset) EXPECT_EQ(rec->semantic.top(), kWall);
+        if (!reset)
+        {
+            EXPECT_EQ(rec->semantic.top(), kWall);
+        }
         EXPECT_EQ(map.shapeOf(v).n == 0, reset);
     }
 }

@@ -11,10 +11,12 @@
 #include <pndt/io/npz.h>
 #include <pndt/io/poses.h>
 
+#include <cerrno>
 #include <cstring>
 #include <sstream>
 
 #include "data_test_util.h"
+#include "file_size_limit.h"
 
 using namespace pndt;
 using namespace pndt::data;
@@ -134,6 +136,28 @@ TEST(AtomicFile, NoTemporariesAndErrorsNameTheFile)
     {
         EXPECT_NE(std::string(e.what()).find("blocker/c.txt"), std::string::npos) << e.what();
     }
+}
+
+TEST(AtomicFile, AWriteThatMeetsAFullDiskSaysWhy)
+{
+    // A file size limit fails writes with EFBIG as a full disk fails them with
+    // ENOSPC (SIGXFSZ ignored): the message names the file and the reason.
+    const test::TempDir dir("atomic_full");
+    std::string what;
+    {
+        const test_support::FileSizeLimit full(1000);
+        try
+        {
+            writeFileAtomic(dir / "big.txt", std::string(20000, 'x'));
+        }
+        catch (const std::runtime_error& e)
+        {
+            what = e.what();
+        }
+    }
+    EXPECT_NE(what.find("big.txt"), std::string::npos) << what;
+    EXPECT_NE(what.find(std::strerror(EFBIG)), std::string::npos) << what;
+    EXPECT_TRUE(fs::is_empty(dir.path));
 }
 
 namespace

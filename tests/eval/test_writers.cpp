@@ -19,6 +19,11 @@
 #include <sstream>
 #include <unistd.h>
 
+#include "file_size_limit.h"
+
+#include <cerrno>
+#include <cstring>
+
 using namespace pndt::eval;
 namespace io = pndt::io;
 namespace fs = std::filesystem;
@@ -88,6 +93,38 @@ TEST(Writers, AtomicWriteLeavesNoTemporaryAndNamesTheFileOnError)
     const std::string msg = errorOf([&] { io::writeFileAtomically(missing, "x"); });
     EXPECT_NE(msg.find(missing), std::string::npos) << msg;
     EXPECT_THROW(io::writeFileAtomically(missing, "x"), io::WriteError);
+}
+
+TEST(Writers, AStreamThatMeetsAFullDiskIsAWriteErrorWithTheReason)
+{
+    // A file size limit fails writes with EFBIG as a full disk fails them with
+    // ENOSPC (SIGXFSZ ignored). 300 bytes stay in the stream's buffer until the
+    // close writes them; 20000 fail while writing. Either way: an error naming the
+    // file and the reason, and neither the file nor a temporary left (a stream
+    // closed by its destructor dropped the close's error, and the short file was
+    // renamed into place).
+    TempDir d;
+    std::string at_close, while_writing;
+    const auto write = [&](const std::string& path, size_t bytes) {
+        return errorOf([&] {
+            io::writeFileAtomically(path, [&](const std::string& tmp) {
+                std::ofstream f(tmp);
+                f << std::string(bytes, 'x');
+                io::closeWrittenStream(f, path);
+            });
+        });
+    };
+    {
+        const pndt::test_support::FileSizeLimit full(100);
+        at_close = write(d.file("small.txt"), 300);
+        while_writing = write(d.file("big.txt"), 20000);
+    }
+    for (const auto& [msg, name] : {std::pair{at_close, "small.txt"}, std::pair{while_writing, "big.txt"}})
+    {
+        EXPECT_NE(msg.find(d.file(name)), std::string::npos) << msg;
+        EXPECT_NE(msg.find(std::strerror(EFBIG)), std::string::npos) << msg;
+    }
+    EXPECT_EQ(filesIn(d.path()), 0u);
 }
 
 TEST(Writers, LabelText)

@@ -4,10 +4,11 @@
 #             every 0.2 s into the same folder: after each kill every map_*.pndt.gz present
 #             loads and index.json is valid JSON listing only complete maps.
 #   full      the output folder on a full disk: a 512 KiB tmpfs when mounting is allowed (root),
-#             run with 0 / 250 / 450 / 480 KiB of it taken (so a map file meets the full disk
-#             first in some runs, maps.rawlog in others); else a per-file size limit (ulimit -f
-#             with SIGXFSZ ignored, so writes fail with EFBIG as on a full disk). Exit code 3, an
-#             error naming the file, no temporary file left, index.json valid and its maps complete.
+#             run with 0 / 250 / 320 / 424 / 450 / 472 / 480 KiB of it taken (so a map archive
+#             meets the full disk first in some runs, a PLY or maps.rawlog in others); else a
+#             per-file size limit (ulimit -f with SIGXFSZ ignored, so writes fail with EFBIG as
+#             on a full disk). Exit code 3, an error naming the file and the reason, no temporary
+#             file left, index.json valid and its maps complete.
 #   readonly  a folder holding earlier maps made read-only (a read-only bind mount when
 #             allowed, else running as user nobody, else chmod a-w): exit code 3, an error
 #             naming the file, the earlier maps byte-identical.
@@ -57,7 +58,7 @@ full)
     d="$W/full"
     # Space left when the run starts (KiB of the tmpfs pre-filled): which file meets the full
     # disk first (a map file or maps.rawlog) depends on it, so both are met.
-    for fill in 0 250 450 480; do
+    for fill in 0 250 320 424 450 472 480; do
         umount "$d" 2> /dev/null
         rm -rf "$d" && mkdir -p "$d"
         if mount -t tmpfs -o size=512k tmpfs "$d" 2> /dev/null; then

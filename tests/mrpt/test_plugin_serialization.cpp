@@ -8,6 +8,7 @@
 #include <pndt/instance_rules.h>
 #include <pndt/mrpt/map_files.h>
 
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <utility>
@@ -16,6 +17,7 @@
 #include <map>
 #include <set>
 
+#include "file_size_limit.h"
 #include "observation_fixtures.h"
 
 using namespace pndt;
@@ -678,6 +680,33 @@ TEST(PluginFiles, PlyHasOneVertexPerOccupiedVoxelWithLabels)
         chair |= v.semantic == 5 && v.instance != 0;
     }
     EXPECT_TRUE(chair);
+}
+
+TEST(PluginFiles, APlyThatMeetsAFullDiskSaysWhy)
+{
+    // A file size limit fails writes with EFBIG as a full disk fails them with
+    // ENOSPC (SIGXFSZ ignored). The PLY writer said "write error (disk full?)"
+    // without the reason: pndt-map's full-disk check (tests/faults) failed
+    // whenever a PLY met the full disk first.
+    const auto m = labelledMap();
+    const fs::path dir = tempDir();
+    const std::string prefix = (dir / "map").string();
+    std::string what;
+    {
+        const test_support::FileSizeLimit full(600);  // the header fits, the vertices do not
+        try
+        {
+            m->saveMetricMapRepresentationToFile(prefix);
+        }
+        catch (const io::WriteError& e)
+        {
+            what = e.what();
+        }
+    }
+    EXPECT_NE(what.find(prefix + ".ply"), std::string::npos) << what;
+    EXPECT_NE(what.find(std::strerror(EFBIG)), std::string::npos) << what;
+    EXPECT_TRUE(fs::is_empty(dir));  // no temporary left behind
+    fs::remove_all(dir);
 }
 
 TEST(PluginFiles, PlyLabelsOfAMapAfterAHandOverNumberItsInstancesDensely)

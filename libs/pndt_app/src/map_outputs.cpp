@@ -3,6 +3,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <pndt/app/map_outputs.h>
 #include <pndt/app/map_pictures.h>
+#include <pndt/io/atomic_file.h>
 #include <pndt/mrpt/map_files.h>
 
 #include <fstream>
@@ -35,7 +36,7 @@ void writeInstanceReport(const PanopticMap& map, const std::string& path)
     io::writeFileAtomically(path, [&](const std::string& tmp) {
         std::ofstream f(tmp);
         f << j.dump(2) << "\n";
-        if (!f) throw std::runtime_error("cannot write " + tmp);
+        io::closeWrittenStream(f, path);
     });
 }
 

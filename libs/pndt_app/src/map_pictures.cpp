@@ -126,7 +126,7 @@ void writePngFile(const cv::Mat& image, const std::string& path)
         if (!cv::imencode(".png", image, png)) throw std::runtime_error("PNG encoding failed for " + path);
         std::ofstream f(tmp, std::ios::binary);
         f.write(reinterpret_cast<const char*>(png.data()), std::streamsize(png.size()));
-        if (!f) throw std::runtime_error("cannot write " + tmp);
+        io::closeWrittenStream(f, path);
     });
 }
 

@@ -100,7 +100,7 @@ void FramePoseRefinement::writeTum(const std::string& path) const
             f << fmt::format("{:.6f} {:.6f} {:.6f} {:.6f} {:.9f} {:.9f} {:.9f} {:.9f}\n", t, T.translation().x(),
                              T.translation().y(), T.translation().z(), q.x(), q.y(), q.z(), q.w());
         }
-        if (!f) throw std::runtime_error("cannot write " + tmp);
+        io::closeWrittenStream(f, path);
     });
 }
 

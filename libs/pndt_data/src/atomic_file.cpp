@@ -31,10 +31,7 @@ void writeFileAtomic(const std::string& path, const std::function<void(std::ostr
         std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
         if (!out) throw std::runtime_error(path + ": cannot open " + tmp + " for writing: " + std::strerror(errno));
         fill(out);
-        out.flush();
-        if (!out) throw std::runtime_error(path + ": write failed (disk full?)");
-        out.close();
-        if (out.fail()) throw std::runtime_error(path + ": closing the file failed");
+        io::closeWrittenStream(out, path);  // a WriteError is a std::runtime_error
     });
 }
 

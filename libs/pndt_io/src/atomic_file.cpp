@@ -23,6 +23,19 @@ namespace
 }
 }  // namespace
 
+void closeWrittenStream(std::ofstream& f, const std::string& path)
+{
+    // A write that failed left its errno (the stream's later operations are no-ops);
+    // otherwise the close writes what is buffered and sets errno if that fails.
+    const bool failed = !f;
+    const int err_before = errno;
+    errno = 0;
+    f.close();
+    if (!failed && !f.fail()) return;
+    const int err = failed ? err_before : errno;
+    fail(path, "write failed", err);
+}
+
 void writeFileAtomically(const std::string& path, std::string_view bytes)
 {
     if (path.empty()) throw WriteError("cannot write a file with an empty path");

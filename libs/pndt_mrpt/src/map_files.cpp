@@ -118,8 +118,7 @@ void writePly(const PanopticNDTMap& m, const std::string& path, ColorMode colors
             f.write(reinterpret_cast<const char*>(&label), sizeof(label));
             f.write(reinterpret_cast<const char*>(&prob), sizeof(prob));
         }
-        f.close();
-        if (!f) throw io::WriteError(fmt::format("cannot write '{}': write error (disk full?)", path));
+        io::closeWrittenStream(f, path);
     });
 }
 
