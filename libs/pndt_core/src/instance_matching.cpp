@@ -78,6 +78,21 @@ MarkSpansFn bestMarkSpans() { return markSpansPortable; }
 #endif
 }  // namespace
 
+namespace
+{
+/// The spans [sp, end) of a thing voxel (raster order, footprint `fp`) that lie in image
+/// rows [row_begin, row_end) of W pixels.
+std::pair<const MaskSpan*, const MaskSpan*> spansInRows(const MaskSpan* sp, const MaskSpan* end,
+                                                        const MaskFootprint& fp, int row_begin, int row_end, int W)
+{
+    if (std::max(fp.r0, row_begin) >= std::min(fp.r1 + 1, row_end)) return {sp, sp};
+    const auto before = [](const MaskSpan& x, uint32_t i) { return x.begin < i; };
+    if (fp.r0 < row_begin) sp = std::lower_bound(sp, end, uint32_t(row_begin) * uint32_t(W), before);
+    if (fp.r1 >= row_end) end = std::lower_bound(sp, end, uint32_t(row_end) * uint32_t(W), before);
+    return {sp, end};
+}
+}  // namespace
+
 void PanopticMap::predictedBand(const FramePixels& f, int band, int bands)
 {
     Scratch& s = *scratch_;
@@ -335,7 +350,6 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
         const size_t gi = mt.group;
         const int piece = int(mt.piece), pieces = int(mt.pieces);
         const int row_begin = H * piece / pieces, row_end = H * (piece + 1) / pieces;
-        const uint32_t pixel_begin = uint32_t(row_begin) * uint32_t(W), pixel_end = uint32_t(row_end) * uint32_t(W);
         MaskWorker& m = s.mask_workers[size_t(thread)];
         uint64_t area = 0;
         uint64_t* inter = &m.inter[gi * P1 + 1];  // [-1] counts pixels of no prediction
@@ -344,14 +358,7 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
         const auto spans = [&](uint32_t u) -> std::pair<const MaskSpan*, const MaskSpan*> {
             const MaskSpan* sp = s.mask_spans.data() + s.thing_spans[u];
             const MaskSpan* end = sp + s.thing_span_count[u];
-            if (pieces > 1)
-            {
-                const auto before = [](const MaskSpan& x, uint32_t i) { return x.begin < i; };
-                const MaskFootprint& fp = s.footprints[u];
-                if (std::max(fp.r0, row_begin) >= std::min(fp.r1 + 1, row_end)) return {sp, sp};
-                if (fp.r0 < row_begin) sp = std::lower_bound(sp, end, pixel_begin, before);
-                if (fp.r1 >= row_end) end = std::lower_bound(sp, end, pixel_end, before);
-            }
+            if (pieces > 1) return spansInRows(sp, end, s.footprints[u], row_begin, row_end, W);
             return {sp, end};
         };
         // Pixels not in this mask yet: a word (64 pixels) at a time.
@@ -595,8 +602,6 @@ void PanopticMap::splitMergedPredictions(const FramePixels& f, FrameStats& st)
     const int bands = threads > 1 ? 4 * threads : 1;
     const auto band = [&](int b) {
         const int row_begin = H * b / bands, row_end = H * (b + 1) / bands;
-        const uint32_t pixel_begin = uint32_t(row_begin) * uint32_t(W), pixel_end = uint32_t(row_end) * uint32_t(W);
-        const auto before = [](const MaskSpan& x, uint32_t i) { return x.begin < i; };
         for (const auto& [gi, p] : s.splits)
         {
             const uint32_t z = s.candidates[s.groups[gi].first].first;
@@ -604,12 +609,9 @@ void PanopticMap::splitMergedPredictions(const FramePixels& f, FrameStats& st)
             {
                 if (s.own_class[c] == g.cls[p]) continue;
                 const uint32_t u = s.candidates[c].thing;
-                const MaskFootprint& fp = s.footprints[u];
-                if (std::max(fp.r0, row_begin) >= std::min(fp.r1 + 1, row_end)) continue;
-                const MaskSpan* sp = s.mask_spans.data() + s.thing_spans[u];
-                const MaskSpan* end = sp + s.thing_span_count[u];
-                if (fp.r0 < row_begin) sp = std::lower_bound(sp, end, pixel_begin, before);
-                if (fp.r1 >= row_end) end = std::lower_bound(sp, end, pixel_end, before);
+                const MaskSpan* first = s.mask_spans.data() + s.thing_spans[u];
+                auto [sp, end] = spansInRows(first, first + s.thing_span_count[u], s.footprints[u], row_begin,
+                                             row_end, W);
                 for (; sp < end; ++sp)
                     if (sp->predicted == int32_t(p))
                     {
