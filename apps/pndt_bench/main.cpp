@@ -1,6 +1,6 @@
 // pndt-bench: frames/s and time per stage of the full panoptic update (1 and N
 // threads), side by side with OctoMap (default insert and lazy_eval+discretize)
-// and MRPT's COctoMap doing occupancy only, on identical synthetic frames; bytes
+// and MRPT's COctoMap (and Bonxai, in a build with it) doing occupancy only, on identical frames; bytes
 // per mapped voxel, peak RSS, and the ratios the speed targets are stated in.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -22,6 +22,7 @@
 #endif
 
 #include "bench_frames.h"
+#include "bonxai_run.h"
 
 using namespace pndt;
 using Clock = std::chrono::steady_clock;
@@ -288,39 +289,55 @@ std::vector<Measured> measureThreadCounts(const bench::BenchFrames& b, MapOption
     return ms;
 }
 
-struct OctoRun
+using OctoRun = bench::OccupancyRun;  // frame_seconds: cloud + insert; finish: updateInnerOccupancy
+
+/// Occupancy-only runs under the statistic PanopticNDT's runs are reported in.
+struct OccupancyStat
 {
-    double fps = 0;
-    std::vector<double> frame_seconds;  ///< each frame's cloud + insert
-    double finish_seconds = 0;          ///< the final updateInnerOccupancy (lazy_eval)
-    size_t leaves = 0;
-    double bytes_per_leaf = 0;
+    double fps = 0, median_fps = 0, fastest_fps = 0, frame_min_fps = 0;
 };
+
+OccupancyStat occupancyStat(const std::vector<OctoRun>& runs, double frames);
 
 OctoRun benchOctomap(const bench::BenchFrames& b, double voxel, double max_range, bool fast)
 {
     octomap::OcTree tree(voxel);
-    OctoRun r;
-    r.frame_seconds.resize(b.frames.size());
-    const auto t0 = Clock::now();
-    for (size_t i = 0; i < b.frames.size(); ++i)
-    {
-        const auto tf = Clock::now();
-        octomap::Pointcloud cloud;
-        cloud.reserve(b.world_points[i].size());
-        for (const auto& p : b.world_points[i]) cloud.push_back(p.x(), p.y(), p.z());
-        const Eigen::Vector3d o = b.poses[i].translation();
-        tree.insertPointCloud(cloud, octomap::point3d(float(o.x()), float(o.y()), float(o.z())), max_range,
-                              /*lazy_eval=*/fast, /*discretize=*/fast);
-        r.frame_seconds[i] = since(tf);
-    }
-    const auto t1 = Clock::now();
-    if (fast) tree.updateInnerOccupancy();
-    r.finish_seconds = since(t1);
-    r.fps = double(b.frames.size()) / since(t0);
-    r.leaves = tree.getNumLeafNodes();
-    r.bytes_per_leaf = double(tree.memoryUsage()) / double(std::max<size_t>(1, r.leaves));
+    OctoRun r = bench::timeFrames(
+        b,
+        [&](size_t i) {
+            octomap::Pointcloud cloud;
+            cloud.reserve(b.world_points[i].size());
+            for (const auto& p : b.world_points[i]) cloud.push_back(p.x(), p.y(), p.z());
+            const Eigen::Vector3d o = b.poses[i].translation();
+            tree.insertPointCloud(cloud, octomap::point3d(float(o.x()), float(o.y()), float(o.z())), max_range,
+                                  /*lazy_eval=*/fast, /*discretize=*/fast);
+        },
+        [&] {
+            if (fast) tree.updateInnerOccupancy();
+        });
+    r.cells = tree.getNumLeafNodes();
+    r.bytes_per_cell = double(tree.memoryUsage()) / double(std::max<size_t>(1, r.cells));
     return r;
+}
+
+OccupancyStat occupancyStat(const std::vector<OctoRun>& runs, double frames)
+{
+    OccupancyStat st;
+    std::vector<double> fps;
+    for (const OctoRun& r : runs) fps.push_back(r.fps);
+    double frame_min = 0, finish = runs.front().finish_seconds;
+    for (size_t i = 0; i < runs.front().frame_seconds.size(); ++i)
+    {
+        double f = runs.front().frame_seconds[i];
+        for (const OctoRun& r : runs) f = std::min(f, r.frame_seconds[i]);
+        frame_min += f;
+    }
+    for (const OctoRun& r : runs) finish = std::min(finish, r.finish_seconds);
+    st.frame_min_fps = frames / (frame_min + finish);
+    st.median_fps = median(fps);
+    st.fastest_fps = *std::max_element(fps.begin(), fps.end());
+    st.fps = g_stat == Stat::FrameMin ? st.frame_min_fps : g_stat == Stat::Min ? st.fastest_fps : st.median_fps;
+    return st;
 }
 
 double benchMrptOctomap(const bench::BenchFrames& b, double voxel)
@@ -386,6 +403,9 @@ struct Summary
     double octo_fast = 0, octo_default = 0, mrpt = 0;
     size_t octo_leaves = 0;
     double octo_bytes = 0;
+    double bonxai = 0;  ///< frames/s, in a build with Bonxai
+    size_t bonxai_cells = 0;
+    double bonxai_bytes = 0;
 };
 }  // namespace
 
@@ -397,7 +417,8 @@ int main(int argc, char** argv)
     std::vector<double> voxels = {0.05, 0.10, 0.20};
     std::vector<std::string> resolutions = {"640x480", "1024x768"};
     std::vector<int> threads = {1, 0};
-    bool no_octomap_default = false, no_mrpt = false, only_panoptic = false, ablations = false, pin = false;
+    bool no_octomap_default = false, no_mrpt = false, no_bonxai = false, only_panoptic = false, ablations = false,
+         pin = false;
     std::string markdown, stat = "median", recording;
     app.add_option("-n,--frames", frames, "frames per run")->capture_default_str();
     app.add_option("--repeat", repeat, "runs per measurement (the thread counts' runs alternate; --stat picks the one reported)")->capture_default_str();
@@ -413,6 +434,8 @@ int main(int argc, char** argv)
                    "frames spread over it, with grid labels (wall, floor, 24 things, new ids every frame)");
     app.add_flag("--skip-octomap-default", no_octomap_default, "skip OctoMap's default insert (slow)");
     app.add_flag("--skip-mrpt", no_mrpt, "skip MRPT's COctoMap (slow)");
+    app.add_flag("--skip-bonxai", no_bonxai,
+                 bench::haveBonxai() ? "skip Bonxai" : "skip Bonxai (this build has none: -DPNDT_BONXAI_DIR)");
     app.add_flag("--only-panoptic", only_panoptic, "PanopticNDT only (for profiling)");
     app.add_flag("--ablations", ablations,
                  "also: cube voxels (w/o NDT), and per-pixel rays with the agreement of merged rays to them");
@@ -551,28 +574,28 @@ int main(int argc, char** argv)
                 std::vector<OctoRun> runs;
                 for (int i = 0; i < repeat; ++i) runs.push_back(benchOctomap(b, v, max_range, true));
                 const OctoRun& last = runs.back();
-                // The same statistic as PanopticNDT's runs.
-                std::vector<double> fast;
-                for (const OctoRun& r : runs) fast.push_back(r.fps);
-                double frame_min = 0, finish = runs.front().finish_seconds;
-                for (size_t i = 0; i < b.frames.size(); ++i)
-                {
-                    double f = runs.front().frame_seconds[i];
-                    for (const OctoRun& r : runs) f = std::min(f, r.frame_seconds[i]);
-                    frame_min += f;
-                }
-                for (const OctoRun& r : runs) finish = std::min(finish, r.finish_seconds);
-                const double frame_min_fps = n / (frame_min + finish);
-                sum.octo_fast = g_stat == Stat::FrameMin ? frame_min_fps
-                                : g_stat == Stat::Min    ? *std::max_element(fast.begin(), fast.end())
-                                                         : median(fast);
-                sum.octo_leaves = last.leaves;
-                sum.octo_bytes = last.bytes_per_leaf;
+                const OccupancyStat fast = occupancyStat(runs, n);
+                sum.octo_fast = fast.fps;
+                sum.octo_leaves = last.cells;
+                sum.octo_bytes = last.bytes_per_cell;
                 fmt::print(
                     "OctoMap lazy_eval+discretize: {:7.2f} frames/s | {} leaf nodes, {:.1f} B/node | median run {:.2f}, "
                     "fastest run {:.2f}, each frame's fastest {:.2f} frames/s\n",
-                    sum.octo_fast, last.leaves, last.bytes_per_leaf, median(fast),
-                    *std::max_element(fast.begin(), fast.end()), frame_min_fps);
+                    sum.octo_fast, last.cells, last.bytes_per_cell, fast.median_fps, fast.fastest_fps,
+                    fast.frame_min_fps);
+                if (bench::haveBonxai() && !no_bonxai)
+                {
+                    std::vector<OctoRun> bruns;
+                    for (int i = 0; i < repeat; ++i) bruns.push_back(bench::runBonxai(b, v, max_range));
+                    const OccupancyStat bx = occupancyStat(bruns, n);
+                    sum.bonxai = bx.fps;
+                    sum.bonxai_cells = bruns.back().cells;
+                    sum.bonxai_bytes = bruns.back().bytes_per_cell;
+                    fmt::print(
+                        "Bonxai ProbabilisticMap: {:7.2f} frames/s | {} cells, {:.1f} B/cell | median run {:.2f}, "
+                        "fastest run {:.2f}, each frame's fastest {:.2f} frames/s\n",
+                        bx.fps, sum.bonxai_cells, sum.bonxai_bytes, bx.median_fps, bx.fastest_fps, bx.frame_min_fps);
+                }
                 const auto few = firstFrames(b, size_t(octomap_frames));
                 if (!no_octomap_default)
                 {
@@ -592,6 +615,7 @@ int main(int argc, char** argv)
             if (sum.octo_fast > 0) ratios += fmt::format("x{:.2f} vs OctoMap fast", one / sum.octo_fast);
             if (sum.octo_default > 0) ratios += fmt::format(", x{:.1f} vs OctoMap default", one / sum.octo_default);
             if (sum.mrpt > 0) ratios += fmt::format(", x{:.1f} vs MRPT COctoMap", one / sum.mrpt);
+            if (sum.bonxai > 0) ratios += fmt::format(", x{:.2f} vs Bonxai", one / sum.bonxai);
             for (size_t i = 1; i < sum.pndt.size(); ++i)
                 ratios += fmt::format(", {} threads x{:.2f} vs 1", sum.pndt[i].first,
                                       sum.pndt[i].second.fps(b.frames.size()) / one);
@@ -650,6 +674,19 @@ int main(int argc, char** argv)
                          100.0 * v / double(std::max<size_t>(1, r.bricks * VoxelStore::kBrickSlots)), r.mem.total() / v,
                          r.mem.voxels / v, r.mem.surfaces / v, r.surfaces, r.mem.labels / v, r.labels,
                          r.mem.instances / v, r.instances, r.mem.propagation / v);
+    }
+    if (std::any_of(summaries.begin(), summaries.end(), [](const Summary& s) { return s.bonxai > 0; }))
+    {
+        t += fmt::format("\n| frames | voxel | Bonxai | Bonxai / OctoMap fast | **PanopticNDT {0} thr. / Bonxai** | "
+                         "PanopticNDT {1} thr. / Bonxai | Bonxai B/cell |\n|---|---|---|---|---|---|---|\n",
+                         t_first, t_last);
+        for (const Summary& s : summaries)
+            if (s.bonxai > 0)
+                t += fmt::format("| {} | {:.0f} cm | {:.1f} | {} | **x{:.2f}** | x{:.2f} | {:.1f} |\n", s.res,
+                                 100 * s.voxel, s.bonxai,
+                                 s.octo_fast > 0 ? fmt::format("x{:.2f}", s.bonxai / s.octo_fast) : "-",
+                                 s.pndt.front().second.fps(nf) / s.bonxai, s.pndt.back().second.fps(nf) / s.bonxai,
+                                 s.bonxai_bytes);
     }
     const Ceilings ceiling_after = parallelCeilings(all);
     t += fmt::format("\nParallel ceiling (trivially parallel loops, {} threads vs 1): before the run {}; after it {}.\n",
