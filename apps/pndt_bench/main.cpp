@@ -297,7 +297,25 @@ struct OccupancyStat
     double fps = 0, median_fps = 0, fastest_fps = 0, frame_min_fps = 0;
 };
 
-OccupancyStat occupancyStat(const std::vector<OctoRun>& runs, double frames);
+OccupancyStat occupancyStat(const std::vector<OctoRun>& runs, double frames)
+{
+    OccupancyStat st;
+    std::vector<double> fps;
+    for (const OctoRun& r : runs) fps.push_back(r.fps);
+    double frame_min = 0, finish = runs.front().finish_seconds;
+    for (size_t i = 0; i < runs.front().frame_seconds.size(); ++i)
+    {
+        double f = runs.front().frame_seconds[i];
+        for (const OctoRun& r : runs) f = std::min(f, r.frame_seconds[i]);
+        frame_min += f;
+    }
+    for (const OctoRun& r : runs) finish = std::min(finish, r.finish_seconds);
+    st.frame_min_fps = frames / (frame_min + finish);
+    st.median_fps = median(fps);
+    st.fastest_fps = *std::max_element(fps.begin(), fps.end());
+    st.fps = g_stat == Stat::FrameMin ? st.frame_min_fps : g_stat == Stat::Min ? st.fastest_fps : st.median_fps;
+    return st;
+}
 
 OctoRun benchOctomap(const bench::BenchFrames& b, double voxel, double max_range, bool fast)
 {
@@ -318,26 +336,6 @@ OctoRun benchOctomap(const bench::BenchFrames& b, double voxel, double max_range
     r.cells = tree.getNumLeafNodes();
     r.bytes_per_cell = double(tree.memoryUsage()) / double(std::max<size_t>(1, r.cells));
     return r;
-}
-
-OccupancyStat occupancyStat(const std::vector<OctoRun>& runs, double frames)
-{
-    OccupancyStat st;
-    std::vector<double> fps;
-    for (const OctoRun& r : runs) fps.push_back(r.fps);
-    double frame_min = 0, finish = runs.front().finish_seconds;
-    for (size_t i = 0; i < runs.front().frame_seconds.size(); ++i)
-    {
-        double f = runs.front().frame_seconds[i];
-        for (const OctoRun& r : runs) f = std::min(f, r.frame_seconds[i]);
-        frame_min += f;
-    }
-    for (const OctoRun& r : runs) finish = std::min(finish, r.finish_seconds);
-    st.frame_min_fps = frames / (frame_min + finish);
-    st.median_fps = median(fps);
-    st.fastest_fps = *std::max_element(fps.begin(), fps.end());
-    st.fps = g_stat == Stat::FrameMin ? st.frame_min_fps : g_stat == Stat::Min ? st.fastest_fps : st.median_fps;
-    return st;
 }
 
 double benchMrptOctomap(const bench::BenchFrames& b, double voxel)
