@@ -276,6 +276,51 @@ TEST(ProjectionKernels, EverySimdVersionGivesTheScalarBits)
     EXPECT_GT(checked, 10000u);
 }
 
+TEST(ProjectionKernels, TheGridsEdgesAreTheScalarOnesInEveryVersion)
+{
+    // G = t exactly (zero ray directions, depth 1): grid coordinates at the ends
+    // of the grid, 2^20 (the first field) and (2^21) 2^20 (one past the last),
+    // and their neighbouring doubles. The SIMD versions compare G with the ends
+    // instead of G / 2^20 with 1 and 2^21: this pins that down bit for bit.
+    const double lo = kSampleScale, hi = double(1 << 21) * kSampleScale;
+    const double edges[] = {std::nextafter(lo, 0.0), lo, std::nextafter(lo, 2 * lo), std::nextafter(hi, 0.0), hi,
+                            std::nextafter(hi, 2 * hi)};
+    const bool in_grid[] = {false, true, true, true, false, false};
+    const int W = 19;  // a full step of each vector width and a scalar tail
+    std::vector<ProjectRowFn> kernels = {&projectRowSse2};
+    if (ProjectRowFn avx2 = projectRowAvx2()) kernels.push_back(avx2);
+    if (ProjectRowFn avx512 = projectRowAvx512()) kernels.push_back(avx512);
+    for (int axis = 0; axis < 3; ++axis)
+        for (size_t e = 0; e < std::size(edges); ++e)
+        {
+            ProjectionSetup P;
+            for (int i = 0; i < 3; ++i)
+            {
+                P.t[i] = i == axis ? edges[e] : 1000.5 * kSampleScale;
+                P.col[i].assign(size_t(W), 0.0);
+            }
+            P.row.assign(3, 0.0);
+            P.max_range = 8.0;
+            const std::vector<float> depth(size_t(W), 1.f);
+            RowBuffer ref, got;
+            ref.resize(W);
+            got.resize(W);
+            projectRowScalar(P, P.row.data(), depth.data(), 0, W, ref);
+            EXPECT_EQ(ref.key[0] != kOutsideKey, in_grid[e]) << "axis " << axis << " edge " << e;
+            for (ProjectRowFn k : kernels)
+            {
+                k(P, P.row.data(), depth.data(), 0, W, got);
+                for (int c = 0; c < W; ++c)
+                {
+                    ASSERT_EQ(got.key[size_t(c)], ref.key[size_t(c)]) << "axis " << axis << " edge " << e << " col " << c;
+                    if (ref.key[size_t(c)] >= kFirstSpecialKey) continue;
+                    for (int i = 0; i < 3; ++i)
+                        ASSERT_EQ(std::memcmp(&got.q[i][size_t(c)], &ref.q[i][size_t(c)], sizeof(double)), 0);
+                }
+            }
+        }
+}
+
 TEST(ProjectionKernels, KeysAreTheVoxelsOfThePoints)
 {
     // The scalar kernel's key is floor of the grid coordinate: check against

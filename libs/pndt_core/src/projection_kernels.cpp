@@ -115,8 +115,8 @@ __attribute__((target("avx2"))) static void projectRowAvx2Impl(const ProjectionS
 {
     const __m256d zero = _mm256_setzero_pd(), fmax = _mm256_set1_pd(double(kFloatMax)),
                   rmax = _mm256_set1_pd(P.max_range);
-    const __m256d inv = _mm256_set1_pd(kInvScale), one = _mm256_set1_pd(1.0),
-                  fieldend = _mm256_set1_pd(double(kFieldMax + 1));
+    const __m256d grid_lo = _mm256_set1_pd(kSampleScale),
+                  grid_hi = _mm256_set1_pd(double(kFieldMax + 1) * kSampleScale);  // 2^41: exact
     const __m256d two52 = _mm256_set1_pd(4503599627370496.0);                                // 2^52
     const __m256d two52_half = _mm256_set1_pd(4503599627370496.0 + double(kSampleHalf));    // exact
     const __m256i two52_bits = _mm256_castpd_si256(two52);
@@ -144,10 +144,9 @@ __attribute__((target("avx2"))) static void projectRowAvx2Impl(const ProjectionS
         {
             const __m256d G =
                 _mm256_add_pd(t[i], _mm256_mul_pd(z, _mm256_add_pd(av[i], _mm256_loadu_pd(&P.col[i][size_t(c)]))));
-            // In the grid: 1 <= G / 2^20 < kFieldMax + 1 (false for NaN).
-            const __m256d kd = _mm256_mul_pd(G, inv);
+            // In the grid: 2^20 <= G < (kFieldMax + 1) 2^20 (false for NaN; see the AVX-512 kernel).
             const __m256i ok = _mm256_castpd_si256(
-                _mm256_and_pd(_mm256_cmp_pd(kd, one, _CMP_GE_OQ), _mm256_cmp_pd(kd, fieldend, _CMP_LT_OQ)));
+                _mm256_and_pd(_mm256_cmp_pd(G, grid_lo, _CMP_GE_OQ), _mm256_cmp_pd(G, grid_hi, _CMP_LT_OQ)));
             inside = _mm256_and_si256(inside, ok);
             // ok: 2^20 <= G < 2^41, so trunc(G) + 2^52 is exact with trunc(G) in its low bits.
             const __m256i bits = _mm256_and_si256(
@@ -183,8 +182,8 @@ __attribute__((target("avx512f,avx512dq"))) static void projectRowAvx512Impl(con
 {
     const __m512d zero = _mm512_setzero_pd(), fmax = _mm512_set1_pd(double(kFloatMax)),
                   rmax = _mm512_set1_pd(P.max_range);
-    const __m512d inv = _mm512_set1_pd(kInvScale), one = _mm512_set1_pd(1.0),
-                  fieldend = _mm512_set1_pd(double(kFieldMax + 1));
+    const __m512d grid_lo = _mm512_set1_pd(kSampleScale),
+                  grid_hi = _mm512_set1_pd(double(kFieldMax + 1) * kSampleScale);  // 2^41: exact
     const __m512d two52 = _mm512_set1_pd(4503599627370496.0);                              // 2^52
     const __m512d two52_half = _mm512_set1_pd(4503599627370496.0 + double(kSampleHalf));  // exact
     const __m512i two52_bits = _mm512_castpd_si512(two52);
@@ -213,9 +212,11 @@ __attribute__((target("avx512f,avx512dq"))) static void projectRowAvx512Impl(con
         {
             const __m512d G =
                 _mm512_add_pd(t[i], _mm512_mul_pd(z, _mm512_add_pd(av[i], _mm512_loadu_pd(&P.col[i][size_t(c)]))));
-            // In the grid: 1 <= G / 2^20 < kFieldMax + 1 (false for NaN).
-            const __m512d kd = _mm512_mul_pd(G, inv);
-            const __mmask8 ok = _mm512_cmp_pd_mask(kd, one, _CMP_GE_OQ) & _mm512_cmp_pd_mask(kd, fieldend, _CMP_LT_OQ);
+            // In the grid: 1 <= G / 2^20 < kFieldMax + 1 (false for NaN), compared
+            // as 2^20 <= G < (kFieldMax + 1) 2^20: the scale is a power of two, so
+            // both compares are exact and no multiply is needed.
+            const __mmask8 ok =
+                _mm512_cmp_pd_mask(G, grid_lo, _CMP_GE_OQ) & _mm512_cmp_pd_mask(G, grid_hi, _CMP_LT_OQ);
             inside &= ok;
             // ok: 2^20 <= G < 2^41, so trunc(G) + 2^52 is exact with trunc(G) in its low bits.
             const __m512i bits = _mm512_maskz_mov_epi64(
