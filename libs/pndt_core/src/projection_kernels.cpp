@@ -218,13 +218,15 @@ __attribute__((target("avx512f,avx512dq"))) static void projectRowAvx512Impl(con
             const __mmask8 ok =
                 _mm512_cmp_pd_mask(G, grid_lo, _CMP_GE_OQ) & _mm512_cmp_pd_mask(G, grid_hi, _CMP_LT_OQ);
             inside &= ok;
-            // ok: 2^20 <= G < 2^41, so trunc(G) + 2^52 is exact with trunc(G) in its low bits.
-            const __m512i bits = _mm512_maskz_mov_epi64(
-                ok, _mm512_castpd_si512(_mm512_add_pd(
-                        _mm512_maskz_roundscale_pd(0xFF, G, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC), two52)));
+            // ok: 2^20 <= G < 2^41, so G + 2^52 rounded towards zero is 2^52 + trunc(G),
+            // trunc(G) in its low bits (one add with embedded rounding, not a round and an
+            // add). Lanes outside the grid are zero, as in the scalar version.
+            const __m512i bits =
+                _mm512_castpd_si512(_mm512_maskz_add_round_pd(ok, G, two52, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC));
             K[i] = _mm512_and_si512(_mm512_maskz_srli_epi64(0xFF, bits, kSampleBits), field_mask);
+            // (bits & offset_mask) | two52_bits in one ternary-logic op (0xEA: (a & b) | c).
             const __m512d q = _mm512_sub_pd(
-                _mm512_castsi512_pd(_mm512_or_si512(_mm512_and_si512(bits, offset_mask), two52_bits)), two52_half);
+                _mm512_castsi512_pd(_mm512_ternarylogic_epi64(bits, offset_mask, two52_bits, 0xEA)), two52_half);
             _mm512_storeu_pd(&out.q[i][size_t(c)], q);
         }
         __m512i pk = _mm512_or_si512(
