@@ -188,6 +188,8 @@ __attribute__((target("avx512f,avx512dq"))) static void projectRowAvx512Impl(con
     const __m512d two52_half = _mm512_set1_pd(4503599627370496.0 + double(kSampleHalf));  // exact
     const __m512i two52_bits = _mm512_castpd_si512(two52);
     const __m512i field_mask = _mm512_set1_epi64(kFieldMax), offset_mask = _mm512_set1_epi64(kMask);
+    const __m512i field_mask1 = _mm512_set1_epi64(int64_t(kFieldMax) << 21),
+                  field_mask2 = _mm512_set1_epi64(int64_t(kFieldMax) << 42);
     const __m512i invalid_key = _mm512_set1_epi64(int64_t(kInvalidKey)),
                   over_key = _mm512_set1_epi64(int64_t(kOverRangeKey)),
                   outside_key = _mm512_set1_epi64(int64_t(kOutsideKey));
@@ -223,14 +225,21 @@ __attribute__((target("avx512f,avx512dq"))) static void projectRowAvx512Impl(con
             // add). Lanes outside the grid are zero, as in the scalar version.
             const __m512i bits =
                 _mm512_castpd_si512(_mm512_maskz_add_round_pd(ok, G, two52, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC));
-            K[i] = _mm512_and_si512(_mm512_maskz_srli_epi64(0xFF, bits, kSampleBits), field_mask);
+            // The key field (trunc(G) >> 20, 21 bits) moved straight to its place in the
+            // packed key, 21 i bits up: the masks below keep just those bits.
+            static_assert(kSampleBits == 20, "the shifts below: 21 i - kSampleBits");
+            K[i] = i == 0   ? _mm512_maskz_srli_epi64(0xFF, bits, 20)
+                   : i == 1 ? _mm512_maskz_slli_epi64(0xFF, bits, 1)
+                            : _mm512_maskz_slli_epi64(0xFF, bits, 22);
             // (bits & offset_mask) | two52_bits in one ternary-logic op (0xEA: (a & b) | c).
             const __m512d q = _mm512_sub_pd(
                 _mm512_castsi512_pd(_mm512_ternarylogic_epi64(bits, offset_mask, two52_bits, 0xEA)), two52_half);
             _mm512_storeu_pd(&out.q[i][size_t(c)], q);
         }
-        __m512i pk = _mm512_or_si512(
-            K[0], _mm512_or_si512(_mm512_maskz_slli_epi64(0xFF, K[1], 21), _mm512_maskz_slli_epi64(0xFF, K[2], 42)));
+        // (K0 & field) | (K1 & field << 21) | (K2 & field << 42), two ternary-logic ops
+        // (0xEA: (a & b) | c).
+        __m512i pk = _mm512_ternarylogic_epi64(K[1], field_mask1, _mm512_and_si512(K[0], field_mask), 0xEA);
+        pk = _mm512_ternarylogic_epi64(K[2], field_mask2, pk, 0xEA);
         pk = _mm512_mask_mov_epi64(outside_key, inside | inside_all, pk);
         pk = _mm512_mask_mov_epi64(over_key, in_range, pk);
         pk = _mm512_mask_mov_epi64(invalid_key, valid, pk);
