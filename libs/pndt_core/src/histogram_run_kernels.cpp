@@ -1,4 +1,4 @@
-// AVX-512 block test of the histogram pass (see histogram_run_kernels.h). Each
+// AVX-512 and AVX2 block tests of the histogram pass (see histogram_run_kernels.h). Each
 // lane repeats the scalar loop's tests: its class (class-0 pixels as void_id),
 // its instance id (a split pixel's own id, else the decision of its predicted
 // instance), and "update" as score > threshold.
@@ -72,13 +72,79 @@ __attribute__((target("avx512f"))) static uint32_t continueRunsAvx512Impl(const 
     return i;
 }
 
-ContinueRunsFn bestContinueRuns()
+// The same tests on eight lanes, for CPUs without AVX-512 (without the block
+// test the pass went pixel by pixel there: a fifth of a 10 cm frame on a Zen 3).
+__attribute__((target("avx2"))) static uint32_t continueRunsAvx2Impl(const RunBlockInputs& in, uint32_t i,
+                                                                     uint32_t end, RunSums& sums)
+{
+    const __m256i zero = _mm256_setzero_si256(), minus_one = _mm256_set1_epi32(-1);
+    const __m256i run_l = _mm256_set1_epi32(sums.l), run_z = _mm256_set1_epi32(int32_t(sums.z)),
+                  void_id = _mm256_set1_epi32(in.void_id), split_now = _mm256_set1_epi32(int32_t(in.split_now));
+    const __m256 theta_l = _mm256_set1_ps(in.theta_l), theta_z = _mm256_set1_ps(in.theta_z);
+    float zw = sums.z_weight, lw = sums.l_weight;
+    uint32_t nz = 0, nl = 0;
+    alignas(32) float z_add[8], l_add[8];
+    for (; end - i >= 8; i += 8)
+    {
+        const __m256i cls = _mm256_cvtepu16_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(in.semantic + i)));
+        const __m256i L = _mm256_blendv_epi8(cls, void_id, _mm256_cmpeq_epi32(cls, zero));
+        const __m256 sl = _mm256_loadu_ps(in.semantic_score + i);
+        // take: L != 0 and score > theta (ordered: a NaN score is no update)
+        const __m256i take_l = _mm256_andnot_si256(_mm256_cmpeq_epi32(L, zero),
+                                                   _mm256_castps_si256(_mm256_cmp_ps(sl, theta_l, _CMP_GT_OQ)));
+        __m256i bad = _mm256_andnot_si256(_mm256_cmpeq_epi32(L, run_l), take_l);
+        __m256i take_z = zero;
+        __m256 sp = _mm256_setzero_ps();
+        if (in.predicted)
+        {
+            const __m256i p = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(in.predicted + i));
+            const __m256i has = _mm256_cmpgt_epi32(p, minus_one);  // p >= 0
+            __m256i z = _mm256_mask_i32gather_epi32(zero, reinterpret_cast<const int*>(in.decision), p, has, 4);
+            if (in.split_stamp)
+            {
+                const __m256i split = _mm256_cmpeq_epi32(
+                    _mm256_loadu_si256(reinterpret_cast<const __m256i*>(in.split_stamp + i)), split_now);
+                z = _mm256_blendv_epi8(z, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(in.split_id + i)), split);
+            }
+            sp = _mm256_loadu_ps(in.panoptic_score + i);
+            take_z = _mm256_andnot_si256(_mm256_cmpeq_epi32(z, zero),
+                                         _mm256_castps_si256(_mm256_cmp_ps(sp, theta_z, _CMP_GT_OQ)));
+            bad = _mm256_or_si256(bad, _mm256_andnot_si256(_mm256_cmpeq_epi32(z, run_z), take_z));
+        }
+        _mm256_store_ps(z_add, _mm256_and_ps(_mm256_castsi256_ps(take_z), sp));
+        _mm256_store_ps(l_add, _mm256_and_ps(_mm256_castsi256_ps(take_l), sl));
+        const uint32_t bad_bits = uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(bad)));
+        const uint32_t count = bad_bits == 0 ? 8u : uint32_t(__builtin_ctz(bad_bits));
+        for (uint32_t j = 0; j < count; ++j)  // in pixel order: the scalar loop's float sums
+        {
+            zw += z_add[j];
+            lw += l_add[j];
+        }
+        const uint32_t first = (1u << count) - 1u;
+        nz += uint32_t(__builtin_popcount(uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(take_z))) & first));
+        nl += uint32_t(__builtin_popcount(uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(take_l))) & first));
+        if (count < 8)
+        {
+            i += count;
+            break;
+        }
+    }
+    sums.z_weight = zw;
+    sums.l_weight = lw;
+    sums.z_updates += nz;
+    sums.l_updates += nl;
+    return i;
+}
+
+ContinueRuns bestContinueRuns()
 {
     __builtin_cpu_init();
-    return simdCap() == SimdCap::Avx512 && __builtin_cpu_supports("avx512f") ? &continueRunsAvx512Impl : nullptr;
+    if (simdCap() == SimdCap::Avx512 && __builtin_cpu_supports("avx512f")) return {&continueRunsAvx512Impl, 16};
+    if (simdCap() >= SimdCap::Avx2 && __builtin_cpu_supports("avx2")) return {&continueRunsAvx2Impl, 8};
+    return {};
 }
 #else
-ContinueRunsFn bestContinueRuns() { return nullptr; }
+ContinueRuns bestContinueRuns() { return {}; }
 #endif
 
 }  // namespace pndt

@@ -1,6 +1,6 @@
-// The histogram pass's common case, 16 pixels a step: pixels of one span (one
+// The histogram pass's common case, 16 (AVX-512) or 8 (AVX2) pixels a step: pixels of one span (one
 // voxel) whose class and instance either continue the current runs or are no
-// update. The tests run on 16 lanes; the scores are then added one by one in
+// update. The tests run on the lanes; the scores are then added one by one in
 // pixel order, so the weights keep the bits of the pixel-by-pixel loop (float
 // sums depend on their order).
 #pragma once
@@ -33,11 +33,17 @@ struct RunSums
     uint32_t z_updates = 0, l_updates = 0;
 };
 
-/// Pixels [i, end) of one span, 16 a step while 16 are left: adds the pixels
+/// Pixels [i, end) of one span, a block a step while a block is left: adds the pixels
 /// that continue the runs to `sums` and returns the first that does not (or
-/// where fewer than 16 are left); the caller takes the rest the scalar way.
+/// where less than a block is left); the caller takes the rest the scalar way.
 using ContinueRunsFn = uint32_t (*)(const RunBlockInputs& in, uint32_t i, uint32_t end, RunSums& sums);
-/// nullptr without AVX-512 F or below simdCap() Avx512: the pass goes pixel by pixel.
-ContinueRunsFn bestContinueRuns();
+/// A block test and its block: spans of `block` pixels or more start with it.
+struct ContinueRuns
+{
+    ContinueRunsFn fn = nullptr;  ///< nullptr: the pass goes pixel by pixel
+    uint32_t block = 0;
+};
+/// AVX-512 F (16 pixels a step) or AVX2 (8), within simdCap(); none below.
+ContinueRuns bestContinueRuns();
 
 }  // namespace pndt

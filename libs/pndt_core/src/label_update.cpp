@@ -335,11 +335,11 @@ void PanopticMap::histogramTask(const FramePixels& f, int task)
             }
         }
     };
-    // Where the CPU has a block test, a span of 16 pixels or more starts with
-    // it: pixels that only continue the runs go 16 a step; after the first
+    // Where the CPU has a block test, a span of a block (16 or 8 pixels) or
+    // more starts with it: pixels that only continue the runs go a block a step; after the first
     // pixel that does not, the span goes on pixel by pixel (runs that break
     // every few pixels would waste block after block).
-    const ContinueRunsFn continueRuns = bestContinueRuns();
+    const ContinueRuns continueRuns = bestContinueRuns();
     RunBlockInputs in;
     in.semantic = sem;
     in.semantic_score = sem_score;
@@ -354,10 +354,10 @@ void PanopticMap::histogramTask(const FramePixels& f, int task)
     in.void_id = void_id;
     const auto walkSpan = [&](const PixelSpan& span, auto walk) {
         uint32_t i = span.begin;
-        if (continueRuns && span.end - i >= 16)
+        if (continueRuns.fn && span.end - i >= continueRuns.block)
         {
             RunSums sums{run_z, run_l, run_zw, run_lw, run_nz, run_nl};
-            i = continueRuns(in, i, span.end, sums);
+            i = continueRuns.fn(in, i, span.end, sums);
             run_zw = sums.z_weight;
             run_lw = sums.l_weight;
             run_nz = sums.z_updates;
