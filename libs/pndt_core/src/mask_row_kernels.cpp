@@ -103,26 +103,32 @@ __attribute__((target("avx2"), always_inline)) inline uint32_t maskRowAvx2Body(c
     const __m256 lo = _mm256_set1_ps(w.lo), hi = _mm256_set1_ps(w.hi);
     const __m256i unmapped = _mm256_set1_epi32(kUnmappedPixel);
     const __m256i shift = _mm256_setr_epi32(7, 0, 1, 2, 3, 4, 5, 6);  // lane i takes lane i - 1 (lane 0: lane 7)
-    int c = c0;
-    for (; c + 8 <= c1 + 1; c += 8)
+    const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    alignas(32) int32_t qs[8];
+    for (int c = c0; c <= c1; c += 8)
     {
-        const __m256i p = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(predicted + c));
-        const __m256 d = _mm256_loadu_ps(depth + c);
+        // The last step loads only the row's remaining pixels (a masked load, as
+        // in the AVX-512 version: the scalar tail took up to 7 pixels of each row);
+        // the lanes beyond take the run's value and their changes are dropped.
+        const __m256i in = _mm256_cmpgt_epi32(_mm256_set1_epi32(c1 + 1 - c), lane);
+        const __m256i p = _mm256_maskload_epi32(predicted + c, in);
+        const __m256 d = _mm256_maskload_ps(depth + c, in);
         // Ordered compares: NaN fails.
         const __m256 ok = _mm256_and_ps(_mm256_cmp_ps(lo, d, _CMP_LE_OQ), _mm256_cmp_ps(d, hi, _CMP_LE_OQ));
-        const __m256i q = _mm256_blendv_epi8(unmapped, p, _mm256_castps_si256(ok));
+        const __m256i run = _mm256_set1_epi32(run_p);
+        const __m256i q = _mm256_blendv_epi8(run, _mm256_blendv_epi8(unmapped, p, _mm256_castps_si256(ok)), in);
         // The value before each lane: the previous lane, and the run for lane 0.
-        const __m256i prev = _mm256_blend_epi32(_mm256_permutevar8x32_epi32(q, shift), _mm256_set1_epi32(run_p), 1);
-        uint32_t change = ~uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(q, prev)))) & 0xFFu;
+        const __m256i prev = _mm256_blend_epi32(_mm256_permutevar8x32_epi32(q, shift), run, 1);
+        uint32_t change = uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_andnot_si256(_mm256_cmpeq_epi32(q, prev), in))));
+        if (!change) continue;
+        _mm256_store_si256(reinterpret_cast<__m256i*>(qs), q);
         while (change)
         {
             const int j = __builtin_ctz(change);
             change &= change - 1;
-            changeRun(_mm256_cvtsi256_si32(_mm256_permutevar8x32_epi32(q, _mm256_set1_epi32(j))), c + j, row,
-                      to_frame, run_p, run_begin, out, n);
+            changeRun(qs[j], c + j, row, to_frame, run_p, run_begin, out, n);
         }
     }
-    scalarPixels(predicted, depth, c, c1, w, row, to_frame, run_p, run_begin, out, n);  // the last < 8
     return closeRow(c1, row, to_frame, run_p, run_begin, out, n);
 }
 
