@@ -73,7 +73,7 @@ __attribute__((target("avx512f"))) static uint32_t continueRunsAvx512Impl(const 
 }
 
 // The same tests on eight lanes, for CPUs without AVX-512 (without the block
-// test the pass went pixel by pixel there: a fifth of a 10 cm frame on a Zen 3).
+// test the pass went pixel by pixel there: the largest function of a 10 cm profile on a Zen 3).
 __attribute__((target("avx2"))) static uint32_t continueRunsAvx2Impl(const RunBlockInputs& in, uint32_t i,
                                                                      uint32_t end, RunSums& sums)
 {
