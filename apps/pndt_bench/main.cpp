@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -385,6 +386,19 @@ Agreement occupancyAgreement(const PanopticMap& a, const PanopticMap& b)
 }
 
 /// p50 / p99 / max of per-frame times, in ms.
+/// The widest vector kernels the map's stages pick on this CPU (and a cap set by
+/// PNDT_PROJECTION_KERNEL): results of different machines are only comparable with it.
+std::string simdText()
+{
+    std::string text = "scalar";
+#if defined(__x86_64__) && defined(__GNUC__)
+    __builtin_cpu_init();
+    text = __builtin_cpu_supports("avx512f") ? "AVX-512 F" : __builtin_cpu_supports("avx2") ? "AVX2" : "SSE2";
+#endif
+    if (const char* cap = std::getenv("PNDT_PROJECTION_KERNEL")) text += fmt::format(", capped at {}", cap);
+    return text + " kernels";
+}
+
 std::string latencyText(std::vector<double> seconds)
 {
     if (seconds.empty()) return "no frames";
@@ -469,9 +483,9 @@ int main(int argc, char** argv)
             cpu = line.substr(line.find(':') + 2);
             break;
         }
-    fmt::print("pndt-bench: {} frames per run, {} runs per measurement, statistic {}; {} hardware threads ({}); label "
-               "noise {}\n",
-               frames, repeat, stat, std::thread::hardware_concurrency(), cpu, label_noise);
+    fmt::print("pndt-bench: {} frames per run, {} runs per measurement, statistic {}; {} hardware threads ({}, {}); "
+               "label noise {}\n",
+               frames, repeat, stat, std::thread::hardware_concurrency(), cpu, simdText(), label_noise);
     const int all = int(std::max(1u, std::thread::hardware_concurrency()));
     const Ceilings ceiling_before = parallelCeilings(all);
     fmt::print("parallel ceiling now ({} threads vs 1): {}\n", all, ceiling_before.text());
