@@ -158,7 +158,20 @@ void PanopticMap::histogramTask(const FramePixels& f, int task)
     w.spilled.clear();
     std::fill(s.new_label.begin() + home_begin, s.new_label.begin() + home_end, kNoRecord);
     std::fill(s.new_instance.begin() + home_begin, s.new_instance.begin() + home_end, kNoRecord);
-    std::fill(s.slot_records.begin() + home_begin, s.slot_records.begin() + home_end, SlotRecords{});
+    // Every home voxel has pixels in the walk: its records are looked up here,
+    // in slot order with the record chains prefetched ahead, instead of at its
+    // first pixel, where four dependent cache misses stalled the walk (~15 % of
+    // the pass's samples at 5 cm on a Zen 3).
+    const HitSlot* const hits = s.hits();
+    for (uint32_t h = home_begin; h < home_end; ++h)
+    {
+        prefetchRecordChain(hits, h, home_end);
+        SlotRecords& r = s.slot_records[h];
+        r = SlotRecords{};
+        const uint32_t li = surfaces_[store_[hits[h].voxel].surface].labels;
+        r.label = li != kNoRecord ? &labels_[li] : nullptr;
+        r.instance = r.label && r.label->instances != kNoRecord ? &instance_records_[r.label->instances] : nullptr;
+    }
     // No reallocation during the pass: records are held by pointer.
     if (w.labels.capacity() < home_end - home_begin) w.labels.reserve(home_end - home_begin);
     if (w.instances.capacity() < home_end - home_begin) w.instances.reserve(home_end - home_begin);
@@ -181,7 +194,6 @@ void PanopticMap::histogramTask(const FramePixels& f, int task)
     const uint32_t* split_id = s.split_id.data();
     const uint32_t split_now = s.split_counter;
     const float* pan_score = instances ? f.panoptic_score.data.data() : nullptr;
-    const HitSlot* hits = s.hits();
     SlotRecords* slot_records = s.slot_records.data();
     uint64_t semantic_updates = 0, instance_updates = 0;
 
@@ -267,16 +279,6 @@ void PanopticMap::histogramTask(const FramePixels& f, int task)
         cur = int32_t(slot);
         cur_records = &slot_records[slot];
         if constexpr (!kQuantisedHistograms) resumeRuns(*cur_records);
-        if (!cur_records->known)
-        {
-            // First pixel of this voxel in this frame: find its records.
-            cur_records->known = true;
-            const uint32_t li = surfaces_[store_[hits[slot].voxel].surface].labels;
-            cur_records->label = li != kNoRecord ? &labels_[li] : nullptr;
-            cur_records->instance = cur_records->label && cur_records->label->instances != kNoRecord
-                                        ? &instance_records_[cur_records->label->instances]
-                                        : nullptr;
-        }
         rec = cur_records->label;
         inst = cur_records->instance;
     };

@@ -314,7 +314,6 @@ struct SlotRecords
 {
     LabelRecord* label = nullptr;
     InstanceRecord* instance = nullptr;
-    bool known = false;
     /// The voxel's runs while the pass is in other voxels (float weights: a run goes on
     /// across the voxel's rows and is flushed once, when its class or instance changes or
     /// at the end of the pass; the same additions in the same order as a flush per row).
