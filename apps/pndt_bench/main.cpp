@@ -385,7 +385,6 @@ Agreement occupancyAgreement(const PanopticMap& a, const PanopticMap& b)
     return {both, both - same};
 }
 
-/// p50 / p99 / max of per-frame times, in ms.
 /// The widest vector kernels the map's stages pick on this CPU (and a cap set by
 /// PNDT_PROJECTION_KERNEL): results of different machines are only comparable with it.
 std::string simdText()
@@ -399,6 +398,7 @@ std::string simdText()
     return text + " kernels";
 }
 
+/// p50 / p99 / max of per-frame times, in ms.
 std::string latencyText(std::vector<double> seconds)
 {
     if (seconds.empty()) return "no frames";

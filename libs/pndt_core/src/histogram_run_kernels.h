@@ -1,8 +1,8 @@
-// The histogram pass's common case, 16 (AVX-512) or 8 (AVX2) pixels a step: pixels of one span (one
-// voxel) whose class and instance either continue the current runs or are no
-// update. The tests run on the lanes; the scores are then added one by one in
-// pixel order, so the weights keep the bits of the pixel-by-pixel loop (float
-// sums depend on their order).
+// The histogram pass's common case, 16 (AVX-512) or 8 (AVX2) pixels a step:
+// pixels of one span (one voxel) whose class and instance either continue the
+// current runs or are no update. The tests run on the lanes; the scores are
+// then added one by one in pixel order, so the weights keep the bits of the
+// pixel-by-pixel loop (float sums depend on their order).
 #pragma once
 
 #include <cstdint>

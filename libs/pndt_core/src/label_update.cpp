@@ -338,9 +338,9 @@ void PanopticMap::histogramTask(const FramePixels& f, int task)
         }
     };
     // Where the CPU has a block test, a span of a block (16 or 8 pixels) or
-    // more starts with it: pixels that only continue the runs go a block a step; after the first
-    // pixel that does not, the span goes on pixel by pixel (runs that break
-    // every few pixels would waste block after block).
+    // more starts with it: pixels that only continue the runs go a block a
+    // step; after the first pixel that does not, the span goes on pixel by
+    // pixel (runs that break every few pixels would waste block after block).
     const ContinueRuns continueRuns = bestContinueRuns();
     RunBlockInputs in;
     in.semantic = sem;

@@ -119,7 +119,8 @@ __attribute__((target("avx2"), always_inline)) inline uint32_t maskRowAvx2Body(c
         const __m256i q = _mm256_blendv_epi8(run, _mm256_blendv_epi8(unmapped, p, _mm256_castps_si256(ok)), in);
         // The value before each lane: the previous lane, and the run for lane 0.
         const __m256i prev = _mm256_blend_epi32(_mm256_permutevar8x32_epi32(q, shift), run, 1);
-        uint32_t change = uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_andnot_si256(_mm256_cmpeq_epi32(q, prev), in))));
+        const __m256i changed = _mm256_andnot_si256(_mm256_cmpeq_epi32(q, prev), in);
+        uint32_t change = uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(changed)));
         if (!change) continue;
         _mm256_store_si256(reinterpret_cast<__m256i*>(qs), q);
         while (change)
