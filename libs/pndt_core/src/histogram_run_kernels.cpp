@@ -14,6 +14,30 @@
 namespace pndt
 {
 #ifdef PNDT_HAVE_X86_KERNELS
+namespace
+{
+/// A block's first `count` scores added to the runs one by one, in pixel order:
+/// the scalar loop's float sums (every version shares this part).
+[[gnu::always_inline]] inline void addInPixelOrder(const float* z_add, const float* l_add, uint32_t count, float& zw,
+                                                   float& lw)
+{
+    for (uint32_t j = 0; j < count; ++j)
+    {
+        zw += z_add[j];
+        lw += l_add[j];
+    }
+}
+
+/// The block loop's weights and update counts into the caller's runs.
+[[gnu::always_inline]] inline void keepSums(RunSums& sums, float zw, float lw, uint32_t nz, uint32_t nl)
+{
+    sums.z_weight = zw;
+    sums.l_weight = lw;
+    sums.z_updates += nz;
+    sums.l_updates += nl;
+}
+}  // namespace
+
 __attribute__((target("avx512f"))) static uint32_t continueRunsAvx512Impl(const RunBlockInputs& in, uint32_t i,
                                                                           uint32_t end, RunSums& sums)
 {
@@ -51,11 +75,7 @@ __attribute__((target("avx512f"))) static uint32_t continueRunsAvx512Impl(const 
         _mm512_store_ps(z_add, _mm512_maskz_mov_ps(take_z, sp));
         _mm512_store_ps(l_add, _mm512_maskz_mov_ps(take_l, sl));
         const uint32_t count = good == 0xFFFF ? 16u : uint32_t(__builtin_ctz(~uint32_t(good)));
-        for (uint32_t j = 0; j < count; ++j)  // in pixel order: the scalar loop's float sums
-        {
-            zw += z_add[j];
-            lw += l_add[j];
-        }
+        addInPixelOrder(z_add, l_add, count, zw, lw);
         const uint32_t first = count == 16 ? 0xFFFFu : (1u << count) - 1u;
         nz += uint32_t(__builtin_popcount(take_z & first));
         nl += uint32_t(__builtin_popcount(take_l & first));
@@ -65,10 +85,7 @@ __attribute__((target("avx512f"))) static uint32_t continueRunsAvx512Impl(const 
             break;
         }
     }
-    sums.z_weight = zw;
-    sums.l_weight = lw;
-    sums.z_updates += nz;
-    sums.l_updates += nl;
+    keepSums(sums, zw, lw, nz, nl);
     return i;
 }
 
@@ -115,11 +132,7 @@ __attribute__((target("avx2"))) static uint32_t continueRunsAvx2Impl(const RunBl
         _mm256_store_ps(l_add, _mm256_and_ps(_mm256_castsi256_ps(take_l), sl));
         const uint32_t bad_bits = uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(bad)));
         const uint32_t count = bad_bits == 0 ? 8u : uint32_t(__builtin_ctz(bad_bits));
-        for (uint32_t j = 0; j < count; ++j)  // in pixel order: the scalar loop's float sums
-        {
-            zw += z_add[j];
-            lw += l_add[j];
-        }
+        addInPixelOrder(z_add, l_add, count, zw, lw);
         const uint32_t first = (1u << count) - 1u;
         nz += uint32_t(__builtin_popcount(uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(take_z))) & first));
         nl += uint32_t(__builtin_popcount(uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(take_l))) & first));
@@ -129,10 +142,7 @@ __attribute__((target("avx2"))) static uint32_t continueRunsAvx2Impl(const RunBl
             break;
         }
     }
-    sums.z_weight = zw;
-    sums.l_weight = lw;
-    sums.z_updates += nz;
-    sums.l_updates += nl;
+    keepSums(sums, zw, lw, nz, nl);
     return i;
 }
 
