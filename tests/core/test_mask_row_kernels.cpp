@@ -204,3 +204,94 @@ TEST(MaskRowKernels, EveryFootprintVersionGivesTheRowByRowSpans)
 }
 
 }  // namespace pndt::test
+
+namespace pndt::test
+{
+namespace
+{
+/// Every footprint version's spans on an image where every pixel passes (one
+/// predicted instance, depth z0): one span per row with a chord, [c0, c1 + 1).
+std::vector<std::vector<MaskSpan>> footprintSpansOfEveryVersion(const MaskFootprint& fp, double k2, int W, int H)
+{
+    std::vector<MaskFootprintFn> kernels{&maskFootprintScalar};
+    if (MaskFootprintFn k = maskFootprintAvx2()) kernels.push_back(k);
+    if (MaskFootprintFn k = maskFootprintAvx512()) kernels.push_back(k);
+    const std::vector<int32_t> predicted(size_t(W * H), 0), to_frame{7};
+    const std::vector<float> depth(size_t(W * H), 2.f);
+    const std::vector<const int32_t*> row_remap(size_t(H), to_frame.data());
+    std::vector<std::vector<MaskSpan>> out;
+    for (MaskFootprintFn k : kernels)
+    {
+        std::vector<MaskSpan> got(size_t(W * H));
+        got.resize(k(fp, k2, predicted.data(), depth.data(), W, depthWindow(2.0, 0.1), row_remap.data(), got.data()));
+        out.push_back(got);
+    }
+    return out;
+}
+}  // namespace
+
+// The SIMD versions compute the rows' chords four at a time: the chord ends
+// must land on the same pixels as footprintRow's, also where they fall exactly
+// on a pixel centre, beyond the image, or nowhere.
+TEST(MaskRowKernels, EveryFootprintVersionEndsChordsOnTheSamePixels)
+{
+    const int W = 64, H = 48;
+    MaskFootprint circle;  // radius 4 (k2 = 16, unit covariance) about pixel (20, 20)
+    circle.ellipse = true;
+    circle.u0 = 20;
+    circle.v0 = 20;
+    circle.s00 = circle.s11 = 1;
+    circle.c0 = 0;
+    circle.c1 = W - 1;
+    circle.r0 = 0;  // rows 0-47: three batches of rows and a part
+    circle.r1 = H - 1;
+    // Half chords sqrt(16 - dv^2), by hand: dv 0 -> 4, 1 -> 3.87, 2 -> 3.46,
+    // 3 -> 2.65, 4 -> 0 (one pixel, an end exactly on a centre).
+    const int half[5] = {4, 3, 3, 2, 0};
+    for (const std::vector<MaskSpan>& spans : footprintSpansOfEveryVersion(circle, 16.0, W, H))
+    {
+        ASSERT_EQ(spans.size(), 9u);
+        for (int dv = -4; dv <= 4; ++dv)
+        {
+            const MaskSpan& s = spans[size_t(dv + 4)];
+            const uint32_t row = uint32_t((20 + dv) * W);
+            EXPECT_EQ(s.begin, row + uint32_t(20 - half[std::abs(dv)])) << dv;
+            EXPECT_EQ(s.end, row + uint32_t(20 + half[std::abs(dv)] + 1)) << dv;
+            EXPECT_EQ(s.predicted, 7);
+        }
+    }
+
+    // A vast, tilted ellipse: every chord reaches past the image (its ends
+    // clamped to +-1e9 before the box), rows 3-40 (38: batches of 16, 16, 6).
+    MaskFootprint vast = circle;
+    vast.s00 = vast.s11 = 1e-20;
+    vast.s01 = 3e-21;
+    vast.c0 = 5;
+    vast.c1 = 50;
+    vast.r0 = 3;
+    vast.r1 = 40;
+    for (const std::vector<MaskSpan>& spans : footprintSpansOfEveryVersion(vast, 16.0, W, H))
+    {
+        ASSERT_EQ(spans.size(), 38u);
+        for (size_t j = 0; j < spans.size(); ++j)
+        {
+            EXPECT_EQ(spans[j].begin, uint32_t((3 + int(j)) * W + 5));
+            EXPECT_EQ(spans[j].end, uint32_t((3 + int(j)) * W + 51));
+        }
+    }
+
+    // No chord anywhere: a degenerate inverse covariance (qa <= 0), a NaN centre.
+    for (const double qa : {0.0, -1.0})
+    {
+        MaskFootprint flat = circle;
+        flat.s00 = qa;
+        for (const std::vector<MaskSpan>& spans : footprintSpansOfEveryVersion(flat, 16.0, W, H))
+            EXPECT_TRUE(spans.empty()) << qa;
+    }
+    MaskFootprint lost = circle;
+    lost.v0 = std::numeric_limits<double>::quiet_NaN();
+    for (const std::vector<MaskSpan>& spans : footprintSpansOfEveryVersion(lost, 16.0, W, H))
+        EXPECT_TRUE(spans.empty());
+}
+
+}  // namespace pndt::test

@@ -2,6 +2,7 @@
 
 #include "map_scratch.h"  // kUnmappedPixel
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -20,6 +21,28 @@
         if (!footprintRow(fp, r, k2, a, b)) continue;                                                \
         const uint32_t row = uint32_t(r) * uint32_t(W);                                              \
         n += ROW_KERNEL(predicted + row, depth + row, a, b, w, row, row_remap[r], out + n);          \
+    }                                                                                                \
+    return n
+
+// The same with the chords of up to kChordBatch rows computed ahead, four rows a
+// step (footprintChordsAvx2): each row's square root and two divisions were a
+// latency chain the row's pixels waited on, restarted after every mispredicted
+// run change.
+#define PNDT_FOOTPRINT_ROWS_BATCHED(ROW_KERNEL)                                                      \
+    uint32_t n = 0;                                                                                  \
+    alignas(32) int32_t c0s[kChordBatch], c1s[kChordBatch];                                          \
+    for (int r_begin = fp.r0; r_begin <= fp.r1; r_begin += kChordBatch)                              \
+    {                                                                                                \
+        const int rows = std::min(kChordBatch, fp.r1 + 1 - r_begin);                                 \
+        footprintChordsAvx2(fp, k2, r_begin, rows, c0s, c1s);                                        \
+        for (int j = 0; j < rows; ++j)                                                               \
+        {                                                                                            \
+            const int a = c0s[j], b = c1s[j];                                                        \
+            if (a > b) continue;                                                                     \
+            const int r = r_begin + j;                                                               \
+            const uint32_t row = uint32_t(r) * uint32_t(W);                                          \
+            n += ROW_KERNEL(predicted + row, depth + row, a, b, w, row, row_remap[r], out + n);      \
+        }                                                                                            \
     }                                                                                                \
     return n
 
@@ -92,6 +115,60 @@ uint32_t maskRowScalar(const int32_t* predicted, const float* depth, int c0, int
 }
 
 #ifdef PNDT_X86
+constexpr int kChordBatch = 16;  // a multiple of 4
+
+/// footprintRow of rows [r_begin, r_begin + rows) (rows <= kChordBatch), four a
+/// step: c0s[j] > c1s[j] where row r_begin + j has no chord. The scalar
+/// version's operations in its order, each exact IEEE arithmetic (no fused
+/// multiply-adds: the core library builds with -ffp-contract=off), so the
+/// chords are the same to the pixel.
+__attribute__((target("avx2"), always_inline)) inline void footprintChordsAvx2(const MaskFootprint& fp, double k2,
+                                                                                int r_begin, int rows, int32_t* c0s,
+                                                                                int32_t* c1s)
+{
+    if (!fp.ellipse)
+    {
+        for (int j = 0; j < rows; ++j)
+        {
+            c0s[j] = fp.c0;
+            c1s[j] = fp.c1;
+        }
+        return;
+    }
+    const __m256d v0 = _mm256_set1_pd(fp.v0), u0 = _mm256_set1_pd(fp.u0), k2v = _mm256_set1_pd(k2);
+    const __m256d qa = _mm256_set1_pd(fp.s00), s01x2 = _mm256_set1_pd(2 * fp.s01), s11 = _mm256_set1_pd(fp.s11);
+    const __m256d qa4 = _mm256_set1_pd(4 * fp.s00), den = _mm256_set1_pd(2 * fp.s00);
+    const __m256d zero = _mm256_setzero_pd(), sign = _mm256_set1_pd(-0.0);
+    const __m256d big = _mm256_set1_pd(1.0e9), small = _mm256_set1_pd(-1.0e9);
+    const __m128i box_c0 = _mm_set1_epi32(fp.c0), box_c1 = _mm_set1_epi32(fp.c1);
+    for (int j = 0; j < rows; j += 4)
+    {
+        const __m256d dv = _mm256_sub_pd(_mm256_cvtepi32_pd(_mm_add_epi32(_mm_set1_epi32(r_begin + j),
+                                                                            _mm_setr_epi32(0, 1, 2, 3))),
+                                         v0);
+        const __m256d qb = _mm256_mul_pd(s01x2, dv);
+        const __m256d qc = _mm256_sub_pd(_mm256_mul_pd(_mm256_mul_pd(s11, dv), dv), k2v);
+        const __m256d disc = _mm256_sub_pd(_mm256_mul_pd(qb, qb), _mm256_mul_pd(qa4, qc));
+        // disc >= 0 and qa > 0, ordered: false for NaN, as the scalar test.
+        const __m256d ok = _mm256_and_pd(_mm256_cmp_pd(disc, zero, _CMP_GE_OQ), _mm256_cmp_pd(qa, zero, _CMP_GT_OQ));
+        const __m256d root = _mm256_sqrt_pd(_mm256_and_pd(disc, ok));
+        const __m256d neg_qb = _mm256_xor_pd(qb, sign);
+        const __m256d lo = _mm256_round_pd(_mm256_add_pd(u0, _mm256_div_pd(_mm256_sub_pd(neg_qb, root), den)),
+                                           _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC);
+        const __m256d hi = _mm256_round_pd(_mm256_add_pd(u0, _mm256_div_pd(_mm256_add_pd(neg_qb, root), den)),
+                                           _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+        // Rows without a chord: c0 = 1e9 > c1 = -1e9. clampedPixel: max(-1e9,
+        // min(1e9, x)) - min_pd / max_pd return their second operand for NaN, as
+        // std::min / std::max return their first.
+        const __m256d lo_or_none = _mm256_blendv_pd(big, lo, ok), hi_or_none = _mm256_blendv_pd(small, hi, ok);
+        const __m128i a = _mm256_cvttpd_epi32(_mm256_max_pd(_mm256_min_pd(lo_or_none, big), small));
+        const __m128i b = _mm256_cvttpd_epi32(_mm256_max_pd(_mm256_min_pd(hi_or_none, big), small));
+        const __m128i c0 = _mm_max_epi32(box_c0, a), c1 = _mm_min_epi32(box_c1, b);
+        _mm_store_si128(reinterpret_cast<__m128i*>(c0s + j), c0);
+        _mm_store_si128(reinterpret_cast<__m128i*>(c1s + j), c1);
+    }
+}
+
 __attribute__((target("avx2"), always_inline)) inline uint32_t maskRowAvx2Body(const int32_t* predicted,
                                                                                 const float* depth, int c0, int c1,
                                                                                 DepthWindow w, uint32_t row,
@@ -191,7 +268,7 @@ __attribute__((target("avx2"))) static uint32_t maskFootprintAvx2Impl(const Mask
                                                                        int W, DepthWindow w,
                                                                        const int32_t* const* row_remap, MaskSpan* out)
 {
-    PNDT_FOOTPRINT_ROWS(maskRowAvx2Body);
+    PNDT_FOOTPRINT_ROWS_BATCHED(maskRowAvx2Body);
 }
 __attribute__((target("avx512f"))) static uint32_t maskFootprintAvx512Impl(const MaskFootprint& fp, double k2,
                                                                            const int32_t* predicted,
@@ -199,7 +276,7 @@ __attribute__((target("avx512f"))) static uint32_t maskFootprintAvx512Impl(const
                                                                            const int32_t* const* row_remap,
                                                                            MaskSpan* out)
 {
-    PNDT_FOOTPRINT_ROWS(maskRowAvx512Body);
+    PNDT_FOOTPRINT_ROWS_BATCHED(maskRowAvx512Body);
 }
 
 MaskRowFn maskRowAvx2()
@@ -254,5 +331,6 @@ MaskRowFn bestMaskRow()
 }
 
 #undef PNDT_FOOTPRINT_ROWS
+#undef PNDT_FOOTPRINT_ROWS_BATCHED
 
 }  // namespace pndt
