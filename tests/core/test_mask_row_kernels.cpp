@@ -89,6 +89,33 @@ TEST(MaskRowKernels, TheDepthWindowIsTheDoubleFormulaForEveryFloatNearItsEnds)
     EXPECT_FALSE(inWindow(2.f, none));
 }
 
+// Windows whose ends lie at or across zero, among denormals, or at the floats'
+// ends: where stepping a float by its bits must turn at the sign.
+TEST(MaskRowKernels, TheDepthWindowAcrossZeroDenormalsAndTheFloatsEnds)
+{
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    const double tiny = double(std::numeric_limits<float>::denorm_min());
+    const double big = double(std::numeric_limits<float>::max());
+    size_t checked = 0;
+    for (const double z0 : {0.0, tiny, -tiny, 3 * tiny, 1e-40, -1e-40, 1e-4, -0.5, big, -big})
+        for (const double tol : {0.0, tiny, 2.5 * tiny, 1e-39, 1e-3, 0.7})
+        {
+            const DepthWindow w = depthWindow(z0, tol);
+            for (float end : {float(z0 - tol), float(z0 + tol), w.lo, w.hi, 0.f, -0.f})
+            {
+                float d = end;
+                for (int s = 0; s < 4; ++s) d = std::nextafter(d, -kInf);
+                for (int s = 0; s < 9; ++s, d = std::nextafter(d, kInf), ++checked)
+                    ASSERT_EQ(inWindow(d, w), formula(d, z0, tol)) << "z0 " << z0 << " tol " << tol << " d " << d;
+            }
+        }
+    EXPECT_GT(checked, 3000u);
+    // By hand: at 0 with a tolerance of 2.5 denormals, the floats -2, ..., 2 denormals pass.
+    const DepthWindow w = depthWindow(0.0, 2.5 * tiny);
+    EXPECT_EQ(w.lo, float(-2 * tiny));
+    EXPECT_EQ(w.hi, float(2 * tiny));
+}
+
 TEST(MaskRowKernels, EveryVersionCutsARowIntoTheSameSpans)
 {
     std::vector<MaskRowFn> kernels{&maskRowScalar};

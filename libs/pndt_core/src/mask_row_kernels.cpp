@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #if defined(__x86_64__) || defined(_M_X64)
@@ -85,6 +86,24 @@ inline uint32_t closeRow(int c1, uint32_t row, const int32_t* to_frame, int32_t 
 }
 }  // namespace
 
+namespace
+{
+/// std::nextafter(x, +inf) and (x, -inf) for the floats depthWindow meets (not
+/// NaN), by the bits: nextafter is a library call, and depthWindow (once per
+/// thing voxel a frame) made eight of them.
+inline float stepUp(float x)
+{
+    if (x == std::numeric_limits<float>::infinity()) return x;
+    if (x == 0.f) return std::numeric_limits<float>::denorm_min();
+    uint32_t b;
+    std::memcpy(&b, &x, sizeof b);
+    b = x > 0.f ? b + 1 : b - 1;  // a negative float's magnitude shrinks
+    std::memcpy(&x, &b, sizeof x);
+    return x;
+}
+inline float stepDown(float x) { return -stepUp(-x); }
+}  // namespace
+
 DepthWindow depthWindow(double z0, double tolerance)
 {
     DepthWindow w;
@@ -93,12 +112,12 @@ DepthWindow depthWindow(double z0, double tolerance)
     // The rounded bounds lie within an ulp or two of the exact ends: step each
     // inwards until it passes, then outwards while its neighbour passes.
     float lo = float(z0 - tolerance), hi = float(z0 + tolerance);
-    while (lo <= hi && lo < kInf && !passes(lo, z0, tolerance)) lo = std::nextafter(lo, kInf);
-    while (hi >= lo && hi > -kInf && !passes(hi, z0, tolerance)) hi = std::nextafter(hi, -kInf);
+    while (lo <= hi && lo < kInf && !passes(lo, z0, tolerance)) lo = stepUp(lo);
+    while (hi >= lo && hi > -kInf && !passes(hi, z0, tolerance)) hi = stepDown(hi);
     // No float passes (e.g. tolerance 0 and z0 not a float, or z0 beyond the floats).
     if (!(lo <= hi) || !passes(lo, z0, tolerance) || !passes(hi, z0, tolerance)) return w;
-    while (lo > -kInf && passes(std::nextafter(lo, -kInf), z0, tolerance)) lo = std::nextafter(lo, -kInf);
-    while (hi < kInf && passes(std::nextafter(hi, kInf), z0, tolerance)) hi = std::nextafter(hi, kInf);
+    while (lo > -kInf && passes(stepDown(lo), z0, tolerance)) lo = stepDown(lo);
+    while (hi < kInf && passes(stepUp(hi), z0, tolerance)) hi = stepUp(hi);
     w.lo = lo;
     w.hi = hi;
     return w;
