@@ -345,6 +345,11 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
         for (int piece = 0; piece < pieces; ++piece) s.mask_tasks.push_back({gi, uint32_t(piece), uint32_t(pieces)});
     }
     const MarkSpansFn mark_spans = bestMarkSpans();
+    const auto prefetchSpans = [&](uint32_t u) {
+        const char* first = reinterpret_cast<const char*>(s.mask_spans.data() + s.thing_spans[u]);
+        const size_t bytes = size_t(s.thing_span_count[u]) * sizeof(MaskSpan);
+        for (size_t b = 0; b < std::min<size_t>(bytes, 4 * 64); b += 64) __builtin_prefetch(first + b);
+    };
     const auto mask = [&](int task, int thread) {
         const MaskTask& mt = s.mask_tasks[size_t(task)];
         const size_t gi = mt.group;
@@ -361,9 +366,14 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
             if (pieces > 1) return spansInRows(sp, end, s.footprints[u], row_begin, row_end, W);
             return {sp, end};
         };
-        // Pixels not in this mask yet: a word (64 pixels) at a time.
-        for (size_t c = s.groups[gi].first; c < s.groups[gi].second; ++c)
+        // Pixels not in this mask yet: a word (64 pixels) at a time. Each voxel's
+        // spans lie at their own place in a buffer of megabytes (bounded by its
+        // footprint's box): the next voxels' are fetched ahead (the first read of a
+        // voxel's spans held half of this loop's samples at 5 cm).
+        const size_t c_end = s.groups[gi].second;
+        for (size_t c = s.groups[gi].first; c < c_end; ++c)
         {
+            if (c + 2 < c_end) prefetchSpans(s.candidates[c + 2].thing);
             const auto [sp, end] = spans(s.candidates[c].thing);
             area += mark_spans(bits, sp, end, inter);
         }
