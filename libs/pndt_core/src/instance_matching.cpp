@@ -299,6 +299,14 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
         for (size_t u = TV * size_t(t) / size_t(thing_tasks), e = TV * size_t(t + 1) / size_t(thing_tasks); u < e; ++u)
         {
             if (u + 1 < e) prefetchFootprint(s.footprints[u + 1], f);
+            if (u + 2 < e)
+            {
+                // Where the voxel after it writes its spans (each voxel's at its own
+                // place in a buffer of megabytes).
+                const char* out = reinterpret_cast<const char*>(s.mask_spans.data() + s.thing_spans[u + 2]);
+                __builtin_prefetch(out, 1);
+                __builtin_prefetch(out + 64, 1);
+            }
             s.thing_span_count[u] = footprintSpans(s.footprints[u], f, s.mask_spans.data() + s.thing_spans[u]);
         }
     };
