@@ -266,7 +266,7 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
 
     // vtou of each thing voxel, once however many instances it has: its
     // footprint, then its pixels that pass the depth test (in raster order),
-    // each at its own place in one buffer (the footprints' boxes bound them).
+    // as row spans in one buffer (the footprints' boxes bound them).
     const size_t G = s.groups.size();
     const size_t TV = s.thing_voxel.size();
     const Pose T_cam_world = T.inverse();
@@ -295,19 +295,19 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
     s.thing_spans[0] = 0;
     for (size_t u = 0; u < TV; ++u) s.thing_spans[u + 1] += s.thing_spans[u];
     s.mask_spans.reserve(size_t(s.thing_spans[TV]));
+    // Each task's voxels write their spans one after the other from the start of
+    // the task's share of the buffer (the bound above), so that the buffer is
+    // written and read in order. (At its place in the box-area bound, each voxel's
+    // first spans were a cache miss for the writer and for every reader.)
     const auto rasterise = [&](int t) {
-        for (size_t u = TV * size_t(t) / size_t(thing_tasks), e = TV * size_t(t + 1) / size_t(thing_tasks); u < e; ++u)
+        const size_t u0 = TV * size_t(t) / size_t(thing_tasks), e = TV * size_t(t + 1) / size_t(thing_tasks);
+        uint64_t at = s.thing_spans[u0];  // read before this task moves it (no other task writes it)
+        for (size_t u = u0; u < e; ++u)
         {
             if (u + 1 < e) prefetchFootprint(s.footprints[u + 1], f);
-            if (u + 2 < e)
-            {
-                // Where the voxel after it writes its spans (each voxel's at its own
-                // place in a buffer of megabytes).
-                const char* out = reinterpret_cast<const char*>(s.mask_spans.data() + s.thing_spans[u + 2]);
-                __builtin_prefetch(out, 1);
-                __builtin_prefetch(out + 64, 1);
-            }
-            s.thing_span_count[u] = footprintSpans(s.footprints[u], f, s.mask_spans.data() + s.thing_spans[u]);
+            s.thing_spans[u] = at;
+            s.thing_span_count[u] = footprintSpans(s.footprints[u], f, s.mask_spans.data() + at);
+            at += s.thing_span_count[u];
         }
     };
     if (thing_tasks > 1)

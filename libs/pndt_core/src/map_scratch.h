@@ -403,7 +403,7 @@ struct PanopticMap::Scratch
     std::vector<uint32_t> thing_base;                    ///< per task: index of its first thing voxel
     std::vector<uint32_t> thing_voxel;                   ///< per thing voxel of the frame: its store index
     MaskSpanBuffer mask_spans;                           ///< per thing voxel its vtou pixels as row spans
-    std::vector<uint64_t> thing_spans;                   ///< per thing voxel: its first span (prefix sums of a bound)
+    std::vector<uint64_t> thing_spans;                   ///< per thing voxel: its first span (packed per task)
     std::vector<uint32_t> thing_span_count;              ///< per thing voxel: its spans
     std::vector<std::pair<size_t, size_t>> groups;       ///< candidates of one map instance
     std::vector<uint64_t> group_area;                    ///< per group: mask area
