@@ -374,10 +374,10 @@ void PanopticMap::matchInstances(const FramePixels& f, const Pose& T, FrameStats
             if (pieces > 1) return spansInRows(sp, end, s.footprints[u], row_begin, row_end, W);
             return {sp, end};
         };
-        // Pixels not in this mask yet: a word (64 pixels) at a time. Each voxel's
-        // spans lie at their own place in a buffer of megabytes (bounded by its
-        // footprint's box): the next voxels' are fetched ahead (the first read of a
-        // voxel's spans held half of this loop's samples at 5 cm).
+        // Pixels not in this mask yet: a word (64 pixels) at a time. The voxels come
+        // in candidate order, not in the order their spans were cut: the next
+        // voxels' spans are fetched ahead (their first read held half of this
+        // loop's samples at 5 cm).
         const size_t c_end = s.groups[gi].second;
         for (size_t c = s.groups[gi].first; c < c_end; ++c)
         {
