@@ -230,10 +230,6 @@ TEST(MaskRowKernels, EveryFootprintVersionGivesTheRowByRowSpans)
     EXPECT_GT(spans, 20000u);
 }
 
-}  // namespace pndt::test
-
-namespace pndt::test
-{
 namespace
 {
 /// Every footprint version's spans on an image where every pixel passes (one

@@ -84,10 +84,7 @@ inline uint32_t closeRow(int c1, uint32_t row, const int32_t* to_frame, int32_t 
         out[n++] = {row + uint32_t(run_begin), row + uint32_t(c1) + 1, run_p >= 0 ? to_frame[run_p] : run_p};
     return n;
 }
-}  // namespace
 
-namespace
-{
 /// std::nextafter(x, +inf) and (x, -inf) for the floats depthWindow meets (not
 /// NaN), by the bits: nextafter is a library call, and depthWindow (once per
 /// thing voxel a frame) made eight of them.
