@@ -56,7 +56,9 @@ struct RayPiece
     RayBlock* block[N];
     uint32_t slot[N];
     uint32_t unseen[N];
+    uint32_t gaussian[N];  ///< voxels classified as Gaussians before the piece (more join after)
     int unseen_count = 0;
+    int gaussian_count = 0;
 };
 
 /// Notes voxels i..n-1 of a piece of the ray (`last`: the ray ends with the
@@ -77,7 +79,7 @@ template <int BB, int N>
     // The side entered through, per axis taken: 2 axis + (step > 0).
     const uint32_t e0 = uint32_t(s0 > 0), e1 = uint32_t(2 + (s1 > 0)), e2 = uint32_t(4 + (s2 > 0));
     RayBlock* blk = r.blk;
-    int unseen = p.unseen_count;
+    int unseen = p.unseen_count, gaussians = p.gaussian_count;
 #ifdef __SSE2__
     __m128d t0 = _mm_set_sd(r.t[0]), t1 = _mm_set_sd(r.t[1]), t2 = _mm_set_sd(r.t[2]);
     const __m128d d0 = _mm_set_sd(r.d[0]), d1 = _mm_set_sd(r.d[1]), d2 = _mm_set_sd(r.d[2]);
@@ -92,7 +94,10 @@ template <int BB, int N>
         p.block[i] = blk;
         p.slot[i] = slot;
         p.unseen[unseen] = uint32_t(i);
-        unseen += blk->state[slot] == RayBlock::kUnseen;
+        p.gaussian[gaussians] = uint32_t(i);
+        const int32_t state = blk->state[slot];
+        unseen += state == RayBlock::kUnseen;
+        gaussians += state > 0;
         ++i;
         if (last && i == n) break;  // no step past the ray's last voxel
 #ifdef __SSE2__
@@ -141,6 +146,7 @@ template <int BB, int N>
     r.l[2] = lz;
     r.blk = blk;
     p.unseen_count = unseen;
+    p.gaussian_count = gaussians;
     return i;
 }
 
@@ -813,7 +819,8 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
     // the voxels' blocks and slots and which of them this task meets first;
     // their records are then looked up together (a record is a cache miss more
     // often than not: its load starts before the one before it is needed),
-    // and last every voxel gets its miss. (Two rays stepped in turn measured
+    // and last the Gaussians among the voxels get their misses (a constant
+    // miss needs no work per ray but PerRay's count). (Two rays stepped in turn measured
     // slower: the stepping is bound by its instructions, not by its chains.)
     const StepRayFn stepRay = bestStepRay();
     const auto walk = [&](auto per_ray_tag) {
@@ -828,7 +835,7 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
             {
                 const int n = std::min(left, kRayPiece);
                 left -= n;
-                p.unseen_count = 0;
+                p.unseen_count = p.gaussian_count = 0;
                 for (int i = 0; i < n;)
                 {
                     i = stepRay(ray, p, i, n, left == 0);
@@ -859,26 +866,27 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
                     const int i = int(p.unseen[k]);
                     RayBlock& b = *p.block[i];
                     const uint32_t slot = p.slot[i];
-                    b.state[slot] = classify(record[k]);
+                    const int32_t state = classify(record[k]);
+                    b.state[slot] = state;
                     b.touched[slot >> 6] |= uint64_t(1) << (slot & 63);
+                    p.gaussian[p.gaussian_count] = uint32_t(i);
+                    p.gaussian_count += state > 0;
                 }
-                for (int i = 0; i < n; ++i)
+                // Only a Gaussian's miss depends on the ray (the strongest miss and
+                // the integer sums do not depend on the order they are taken in).
+                for (int k = 0; k < p.gaussian_count; ++k)
                 {
-                    const int32_t state = p.block[i]->state[p.slot[i]];
-                    if (state > 0)  // a Gaussian: the miss depends on the ray
-                    {
-                        MissGaussian& g = w.gaussians[size_t(state - 1)];
-                        const float delta = float(rule(g.mean, g.info, origin, L.dir, L.end, L.sigma_end));
-                        if constexpr (kPerRay)
-                            g.sum += std::llround(double(delta) / kMissQuantum);
-                        else if (delta < g.delta)
-                            g.delta = delta;
-                    }
-                    else if constexpr (kPerRay)
-                    {
-                        if (state == RayBlock::kConstant) ++p.block[i]->crossings[p.slot[i]];
-                    }
+                    const int i = int(p.gaussian[k]);
+                    MissGaussian& g = w.gaussians[size_t(p.block[i]->state[p.slot[i]] - 1)];
+                    const float delta = float(rule(g.mean, g.info, origin, L.dir, L.end, L.sigma_end));
+                    if constexpr (kPerRay)
+                        g.sum += std::llround(double(delta) / kMissQuantum);
+                    else if (delta < g.delta)
+                        g.delta = delta;
                 }
+                if constexpr (kPerRay)
+                    for (int i = 0; i < n; ++i)
+                        if (p.block[i]->state[p.slot[i]] == RayBlock::kConstant) ++p.block[i]->crossings[p.slot[i]];
             }
         }
     };
