@@ -3,8 +3,13 @@
 #include <pndt/instance_rules.h>
 #include <pndt/panoptic_map.h>
 
+#include <pndt/ray_walk.h>
+
 #include <cmath>
+#include <iterator>
 #include <limits>
+#include <map>
+#include <set>
 
 using namespace pndt;
 
@@ -180,4 +185,81 @@ TEST(PanopticMapFrame, RenameInstancesMergesAndMovesTheCounter)
     EXPECT_EQ(map.nextInstanceId(), 41u);
     map.reserveInstanceIds(100);
     EXPECT_EQ(map.nextInstanceId(), 100u);
+}
+
+TEST(PanopticMapFrame, RaysFreeTheVoxelsOfTheReferenceWalkInEveryOctantAndAcrossBricks)
+{
+    // A camera at negative coordinates, near brick corners, looking into each
+    // octant in turn, and a few pixels at scattered depths: rays go every way,
+    // across many bricks (8 voxels an edge) through faces of every side. The
+    // voxels the map frees must be those walkSegment visits (with every ray's
+    // count, PerRay), no more, no fewer. One sample per voxel: no Gaussians,
+    // every miss the constant one.
+    PanopticFrame f;
+    f.K = {64, 48, 30.0, 34.0, 31.5, 23.5};
+    f.depth.resize(64, 48, 0.f);
+    const int pixels[][2] = {{0, 0}, {63, 0}, {0, 47}, {63, 47}, {31, 23}, {10, 40}, {55, 9}, {20, 5}, {44, 30}, {5, 24}};
+    const float depths[] = {3.1f, 2.3f, 4.05f, 1.7f, 3.6f, 0.9f, 2.8f, 4.4f, 1.3f, 3.35f};
+    for (size_t j = 0; j < std::size(depths); ++j) f.depth.at(pixels[j][1], pixels[j][0]) = depths[j];  // (row, column)
+    f.source = "TEST rays";
+
+    for (int octant = 0; octant < 8; ++octant)
+        for (MissAccumulation acc : {MissAccumulation::Strongest, MissAccumulation::PerRay})
+        {
+            SCOPED_TRACE(::testing::Message() << "octant " << octant << (acc == MissAccumulation::PerRay ? ", per ray" : ", strongest"));
+            const Eigen::Vector3d view((octant & 1) ? 0.61 : -0.58, (octant & 2) ? 0.52 : -0.66, (octant & 4) ? 0.71 : -0.49);
+            Pose T = Pose::Identity();
+            T.linear() = (Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), view) *
+                          Eigen::AngleAxisd(0.3 + 0.7 * octant, Eigen::Vector3d::UnitZ()))
+                             .toRotationMatrix();
+            T.translation() = Eigen::Vector3d(-0.797, -0.0031, -1.6013);
+            MapOptions o;
+            o.ray_mode = RayMode::PerPixel;
+            o.miss_accumulation = acc;
+            o.log_odds_min = -1e6f;  // no clamping: PerRay's counts show
+            PanopticMap map(o);
+            const FrameStats st = map.integrate(f, T);
+            ASSERT_EQ(st.valid_pixels, std::size(depths));
+
+            // The reference: each pixel's point, the voxels before its voxel, counted per ray.
+            std::map<uint64_t, int> crossed;
+            std::set<uint64_t> hit;
+            for (size_t j = 0; j < std::size(depths); ++j)
+            {
+                const double z = depths[j];
+                const Eigen::Vector3d p = T * Eigen::Vector3d((pixels[j][0] - f.K.cx) / f.K.fx * z,
+                                                              (pixels[j][1] - f.K.cy) / f.K.fy * z, z);
+                hit.insert(map.grid().keyOf(p).packed());
+                walkSegment(map.grid(), T.translation(), p, [&](const VoxelKey& k) {
+                    ++crossed[k.packed()];
+                    return true;
+                });
+            }
+            ASSERT_EQ(hit.size(), std::size(depths));  // the pixels' voxels are distinct
+            size_t freed = 0;
+            for (uint32_t i = 0; i < map.voxels().size(); ++i)
+            {
+                const uint64_t k = map.voxels().key(i).packed();
+                const float occ = map.voxels()[i].occ;
+                if (hit.count(k))
+                {
+                    EXPECT_FLOAT_EQ(occ, 0.85f);  // a hit this frame wins over any miss
+                    continue;
+                }
+                const auto it = crossed.find(k);
+                ASSERT_NE(it, crossed.end()) << "a voxel no reference ray crossed";
+                const int rays = acc == MissAccumulation::PerRay ? it->second : 1;
+                EXPECT_FLOAT_EQ(occ, -0.4f * float(rays)) << it->second << " rays";
+                ++freed;
+            }
+            size_t expected = 0, shared = 0;
+            for (const auto& [k, n] : crossed)
+            {
+                expected += hit.count(k) == 0;
+                shared += n > 1;
+            }
+            EXPECT_EQ(freed, expected);
+            EXPECT_GT(expected, 150u) << "long rays: many bricks";
+            EXPECT_GT(shared, 3u) << "rays sharing voxels near the camera";
+        }
 }

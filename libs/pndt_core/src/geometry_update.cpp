@@ -34,17 +34,52 @@ inline uint64_t packKey(int32_t x, int32_t y, int32_t z)
     return VoxelKey{x, y, z}.packed();
 }
 
+/// One axis of a ray as its walk takes it: how the voxel's slot moves (within
+/// the brick, or wrapping into the next brick), the axis's byte of the brick
+/// counters, and the side of the brick the step leaves through.
+struct RayAxisStep
+{
+    int32_t slot_step, slot_wrap;
+    uint32_t count, refill;
+    int32_t side;
+};
+
 /// A ray being walked voxel by voxel (Amanatides & Woo): the parameters t at
 /// which it crosses the next voxel boundary of each axis and their increments,
-/// its steps, its voxel within the current brick and that brick's block.
-/// `enter` >= 0: the ray just entered the brick on that side of `blk`
-/// (-x,+x,-y,+y,-z,+z), whose block is not linked yet.
+/// its voxel's slot within the current brick and that brick's block.
+/// `counters`: per axis (a byte each), 0x80 + the steps it has left in the
+/// brick; a step past the brick clears the byte's top bit (no borrow reaches
+/// the next byte). `axis`: the steps by the axis taken, indexed z, x, y (as
+/// stepRay finds it). `enter` >= 0: the ray just entered the brick on that
+/// side of `blk` (-x,+x,-y,+y,-z,+z), whose block is not linked yet.
 struct RayWalk
 {
     double t[3], d[3];
-    int32_t step[3], l[3];
+    uint32_t slot, counters;
+    RayAxisStep axis[3];
     RayBlock* blk;
     int enter = -1;
+
+    /// Sets the axes, counters and slot of a ray from the voxel `k` (coordinates) with steps `step` (-1, 0, 1).
+    template <int BB>
+    void setAxes(const int32_t* k, const int* step)
+    {
+        constexpr int32_t BM = (1 << BB) - 1;
+        counters = 0;
+        for (int a = 0; a < 3; ++a)
+        {
+            const int32_t l = k[a] & BM, unit = int32_t(1) << (BB * a);
+            const uint32_t left = uint32_t(step[a] > 0 ? BM - l : step[a] < 0 ? l : BM);
+            counters |= (0x80u + left) << (8 * a);
+            RayAxisStep& e = axis[(a + 1) % 3];  // stepRay's index: z 0, x 1, y 2
+            e.slot_step = step[a] * unit;
+            e.slot_wrap = -BM * step[a] * unit;
+            e.count = 1u << (8 * a);
+            e.refill = uint32_t(BM + 1) << (8 * a);
+            e.side = 2 * a + (step[a] > 0);
+        }
+        slot = uint32_t((k[0] & BM) | ((k[1] & BM) << BB) | ((k[2] & BM) << (2 * BB)));
+    }
 };
 
 /// What stepRay notes of a piece of a ray: each voxel's block and slot, and
@@ -73,11 +108,10 @@ struct RayPiece
 template <int BB, int N>
 [[gnu::always_inline]] inline int stepRayImpl(RayWalk& r, RayPiece<N>& p, int i, int n, bool last)
 {
-    constexpr int32_t BM = (1 << BB) - 1;
-    int32_t lx = r.l[0], ly = r.l[1], lz = r.l[2];
-    const int32_t s0 = r.step[0], s1 = r.step[1], s2 = r.step[2];
-    // The side entered through, per axis taken: 2 axis + (step > 0).
-    const uint32_t e0 = uint32_t(s0 > 0), e1 = uint32_t(2 + (s1 > 0)), e2 = uint32_t(4 + (s2 > 0));
+    static_assert(BB >= 1 && BB <= 6, "a brick counter is a byte: 0x80 + up to 0x7f steps");
+    constexpr uint32_t kInBrick = 0x808080;  // every counter's top bit
+    uint32_t slot = r.slot, counters = r.counters;
+    const RayAxisStep* const axes = r.axis;
     RayBlock* blk = r.blk;
     int unseen = p.unseen_count, gaussians = p.gaussian_count;
 #ifdef __SSE2__
@@ -90,7 +124,6 @@ template <int BB, int N>
 #endif
     while (i < n)
     {
-        const uint32_t slot = uint32_t(lx) | (uint32_t(ly) << BB) | (uint32_t(lz) << (2 * BB));
         p.block[i] = blk;
         p.slot[i] = slot;
         p.unseen[unseen] = uint32_t(i);
@@ -107,27 +140,23 @@ template <int BB, int N>
         t0 = _mm_add_sd(t0, _mm_and_pd(mx, d0));  // + 0 where the axis is not taken, as walkSegment
         t1 = _mm_add_sd(t1, _mm_and_pd(my, d1));
         t2 = _mm_add_sd(t2, _mm_and_pd(mz, d2));
-        const int32_t ax = -(_mm_movemask_pd(mx) & 1), ay = -(_mm_movemask_pd(my) & 1), az = -(_mm_movemask_pd(mz) & 1);
+        const RayAxisStep& e = axes[_mm_movemask_pd(_mm_unpacklo_pd(mx, my))];  // x 1, y 2, z 0
 #else
         const bool c01 = t0 < t1, c02 = t0 < t2, c12 = t1 < t2;
         const bool tx = c01 & c02, ty = !c01 & c12, tz = !(tx | ty);
         t0 += tx ? d0 : 0.0;
         t1 += ty ? d1 : 0.0;
         t2 += tz ? d2 : 0.0;
-        const int32_t ax = -int32_t(tx), ay = -int32_t(ty), az = -int32_t(tz);
+        const RayAxisStep& e = axes[int(tx) | (int(ty) << 1)];
 #endif
-        lx += s0 & ax;
-        ly += s1 & ay;
-        lz += s2 & az;
-        const int32_t out = -int32_t(((lx | ly | lz) & ~BM) != 0);  // left the brick
-        lx &= BM;
-        ly &= BM;
-        lz &= BM;
-        const uint32_t side = (e0 & uint32_t(ax)) | (e1 & uint32_t(ay)) | (e2 & uint32_t(az));
-        RayBlock* nb = blk->neighbour[side];
-        if (out & -int32_t(nb == nullptr))
+        counters -= e.count;
+        const bool out = (counters & kInBrick) != kInBrick;  // left the brick
+        slot += uint32_t(out ? e.slot_wrap : e.slot_step);
+        counters += e.refill & (0u - uint32_t(out));
+        RayBlock* nb = blk->neighbour[e.side];
+        if (out & (nb == nullptr))
         {
-            r.enter = int(side);
+            r.enter = e.side;
             break;
         }
         blk = out ? nb : blk;
@@ -141,9 +170,8 @@ template <int BB, int N>
     r.t[1] = t1;
     r.t[2] = t2;
 #endif
-    r.l[0] = lx;
-    r.l[1] = ly;
-    r.l[2] = lz;
+    r.slot = slot;
+    r.counters = counters;
     r.blk = blk;
     p.unseen_count = unseen;
     p.gaussian_count = gaussians;
@@ -695,7 +723,6 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
     const uint64_t* hit_bits = s.hit_bits.data();
     const VoxelKey k0 = grid_.keyOf(origin);
     constexpr int BB = VoxelStore::kBrickBits;
-    constexpr int32_t BM = VoxelStore::kBrickEdge - 1;
 
     // The block of a brick for this task, set up on first use in this frame.
     const auto blockOf = [&](int32_t bx, int32_t by, int32_t bz) -> RayBlock* {
@@ -804,9 +831,8 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
             {
                 r.t[a] = t_max[a];
                 r.d[a] = t_delta[a];
-                r.step[a] = step[a];
-                r.l[a] = k[a] & BM;
             }
+            r.setAxes<BB>(k, step);
             L.remaining = remaining;
             if (!origin_block) origin_block = blockOf(k[0] >> BB, k[1] >> BB, k[2] >> BB);  // every ray's first
             r.blk = origin_block;
