@@ -102,9 +102,11 @@ struct RayPiece
 /// set: the caller links it and calls again). The axis of the smallest t is
 /// taken, ties broken as walkSegment does (x before z, y before z, y before
 /// x). Called out of line (the wrappers below) and without calls, so that the
-/// ray stays in registers, and without branches on the data (compare masks and
-/// selects): inlined in the walk, whose rare paths call out, the compiler kept
-/// the ray in memory and turned its selects into jumps that mispredict.
+/// ray stays in registers, and the axis taken without branches (compare masks):
+/// inlined in the walk, whose rare paths call out, the compiler kept the ray in
+/// memory and turned its selects into jumps that mispredict. Leaving a brick is
+/// a branch (about one step in eight): masks there measured slower, as the
+/// next voxel's state load then waits on the brick counters.
 template <int BB, int N>
 [[gnu::always_inline]] inline int stepRayImpl(RayWalk& r, RayPiece<N>& p, int i, int n, bool last)
 {
