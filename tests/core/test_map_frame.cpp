@@ -2,7 +2,6 @@
 #include <gtest/gtest.h>
 #include <pndt/instance_rules.h>
 #include <pndt/panoptic_map.h>
-
 #include <pndt/ray_walk.h>
 
 #include <cmath>

@@ -101,12 +101,12 @@ struct RayPiece
 /// whose step entered a brick not linked to the current block yet (`enter`
 /// set: the caller links it and calls again). The axis of the smallest t is
 /// taken, ties broken as walkSegment does (x before z, y before z, y before
-/// x). Called out of line (the wrappers below) and without calls, so that the
-/// ray stays in registers, and the axis taken without branches (compare masks):
-/// inlined in the walk, whose rare paths call out, the compiler kept the ray in
-/// memory and turned its selects into jumps that mispredict. Leaving a brick is
-/// a branch (about one step in eight): masks there measured slower, as the
-/// next voxel's state load then waits on the brick counters.
+/// x), by compare masks without a branch. Called out of line (the wrappers
+/// below) and without calls, so that the ray stays in registers: inlined in the
+/// walk, whose rare paths call out, the compiler kept the ray in memory and
+/// turned its selects into jumps that mispredict. Leaving a brick is a branch
+/// (about one step in eight): masks there measured slower, as the next voxel's
+/// state load then waits on the brick counters.
 template <int BB, int N>
 [[gnu::always_inline]] inline int stepRayImpl(RayWalk& r, RayPiece<N>& p, int i, int n, bool last)
 {
@@ -848,8 +848,9 @@ void PanopticMap::castRays(const Eigen::Vector3d& origin, size_t i0, size_t i1, 
     // their records are then looked up together (a record is a cache miss more
     // often than not: its load starts before the one before it is needed),
     // and last the Gaussians among the voxels get their misses (a constant
-    // miss needs no work per ray but PerRay's count). (Two rays stepped in turn measured
-    // slower: the stepping is bound by its instructions, not by its chains.)
+    // miss needs no work per ray but PerRay's count). (Two rays stepped in
+    // turn measured slower: the stepping is bound by its instructions, not by
+    // its chains.)
     const StepRayFn stepRay = bestStepRay();
     const auto walk = [&](auto per_ray_tag) {
         constexpr bool kPerRay = decltype(per_ray_tag)::value;  // no test per step for the mode
