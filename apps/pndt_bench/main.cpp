@@ -675,6 +675,8 @@ int main(int argc, char** argv)
                              ms * r.st.seconds_ndt, ms * r.st.seconds_matching, ms * r.st.seconds_histograms,
                              1e3 * r.propagation, ms * r.seconds);
         }
+    t += "\nWith more than one thread the workers walk rays while matching and the histograms run: their columns "
+         "then hold that overlap, ray/occupancy the rest of the walk and the misses.\n";
     t += "\n| frames | voxel | voxels | occupied | bricks (fill) | B/voxel | voxels + brick index | surface records | "
          "label records | instance records | propagation |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const Summary& s : summaries)

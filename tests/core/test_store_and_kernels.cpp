@@ -189,6 +189,56 @@ TEST(WorkerPool, RunsEveryTaskOnceOnAnyThreadAndRethrows)
     }
 }
 
+TEST(WorkerPool, BackgroundPiecesRunOnceBesideTheCallersTasksAndRethrow)
+{
+    for (int threads : {1, 2, 3})
+    {
+        WorkerPool pool(threads);
+        const WorkerPool::Burst burst(&pool);
+        constexpr int kPieces = 2000;
+        std::vector<std::atomic<int>> piece_seen(kPieces);
+        std::atomic<int> next{0}, bad_thread{0};
+        auto piece = [&](int thread) {
+            const int i = next.fetch_add(1);
+            if (i >= kPieces) return false;
+            if (thread < 0 || thread >= threads) bad_thread.fetch_add(1);
+            piece_seen[size_t(i)].fetch_add(1);
+            return true;
+        };
+        {
+            WorkerPool::Background bg(&pool, piece);
+            // The caller's own stages meanwhile: every task still runs once.
+            for (int round = 0; round < 20; ++round)
+            {
+                std::vector<std::atomic<int>> task_seen(64);
+                pool.runWithThread(64, [&](int task, int thread) {
+                    task_seen[size_t(task)].fetch_add(1);
+                    if (thread < 0 || thread >= threads) bad_thread.fetch_add(1);
+                });
+                for (auto& t : task_seen) ASSERT_EQ(t.load(), 1);
+            }
+            bg.finish();
+            // finish() returns with every piece done and no worker inside one.
+            for (auto& p : piece_seen) ASSERT_EQ(p.load(), 1);
+        }
+        EXPECT_EQ(bad_thread.load(), 0);
+
+        // A piece's exception reaches finish(); the pool works on.
+        std::atomic<int> left{50};
+        auto failing = [&](int) {
+            const int i = left.fetch_sub(1);
+            if (i == 20) throw std::runtime_error("piece 20");
+            return i > 1;
+        };
+        WorkerPool::Background bad(&pool, failing);
+        EXPECT_THROW(bad.finish(), std::runtime_error);
+        EXPECT_LE(left.load(), 20);  // the throwing piece ran
+        std::atomic<int> after{0};
+        pool.run(3, [&](int) { after.fetch_add(1); });
+        EXPECT_EQ(after.load(), 3);
+    }
+}
+
 namespace
 {
 /// A projection of a random camera; `far` puts it near the grid's edge so that

@@ -647,11 +647,18 @@ void PanopticMap::updateShapes(FrameStats& st)
     (void)st;
 }
 
-void PanopticMap::updateOccupancy(const Pose& T, FrameStats& st)
+namespace
+{
+/// Rays a thread takes at a time. A worker takes the caller's matching tasks
+/// between chunks: at 5 cm a chunk is ~25 us of walking.
+constexpr size_t kRayChunk = 64;
+}  // namespace
+
+void PanopticMap::prepareRays(const Pose& T)
 {
     Scratch& s = *scratch_;
-    const Eigen::Vector3d origin = T.translation();
-    const size_t rays = options_.ray_mode == RayMode::Merged ? s.hitCount() : s.bands[0].points.size();
+    s.ray_origin = T.translation();
+    s.ray_count = options_.ray_mode == RayMode::Merged ? s.hitCount() : s.bands[0].points.size();
     // Each thread collects its misses in its own blocks (the minimum over
     // threads does not depend on who cast which ray). Each thread walks a
     // contiguous share of the rays, in small chunks, and then takes the chunks
@@ -661,21 +668,36 @@ void PanopticMap::updateOccupancy(const Pose& T, FrameStats& st)
     const int threads = s.pool ? s.threads : 1;
     if (s.ray_workers.size() < size_t(threads)) s.ray_workers.resize(size_t(threads));
     for (int t = 0; t < threads; ++t) s.ray_workers[size_t(t)].clear();
-    constexpr size_t kChunk = 128;
-    const bool parallel = threads > 1 && rays > kChunk;
-    if (parallel)
+    s.rays_parallel = threads > 1 && s.ray_count > kRayChunk;
+    s.rays_left = true;
+    if (s.rays_parallel)
     {
         s.ray_shares.reset(threads);
-        for (int t = 0; t < threads; ++t) s.ray_shares.set(t, share(rays, t, threads), share(rays, t + 1, threads));
-        s.pool->runWithThread(threads, [&](int, int thread) {
-            s.ray_shares.drain(thread, kChunk, [&](size_t i0, size_t i1, int) {
-                castRays(origin, i0, i1, s.ray_workers[size_t(thread)]);
-            });
-        });
+        for (int t = 0; t < threads; ++t)
+            s.ray_shares.set(t, share(s.ray_count, t, threads), share(s.ray_count, t + 1, threads));
     }
-    else
-        castRays(origin, 0, rays, s.ray_workers[0]);
-    const int used = parallel ? threads : 1;
+}
+
+bool PanopticMap::castRayPiece(int thread)
+{
+    Scratch& s = *scratch_;
+    if (s.rays_parallel)
+        return s.ray_shares.drainOne(thread, kRayChunk, [&](size_t i0, size_t i1, int) {
+            castRays(s.ray_origin, i0, i1, s.ray_workers[size_t(thread)]);
+        });
+    // One thread: every ray in one call, by the caller.
+    if (thread != 0 || !s.rays_left) return false;
+    s.rays_left = false;
+    castRays(s.ray_origin, 0, s.ray_count, s.ray_workers[0]);
+    return false;
+}
+
+void PanopticMap::finishOccupancy(FrameStats& st)
+{
+    Scratch& s = *scratch_;
+    const int threads = s.pool ? s.threads : 1;
+    const size_t rays = s.ray_count;
+    const int used = s.rays_parallel ? threads : 1;
     const HitSlot* hits = s.hits();
     for (uint32_t i = 0, n = s.hitCount(); i < n; ++i) s.hit_bits[hits[i].voxel >> 6] = 0;  // whole words: all were 0 before
     s.hit_bits_set = false;

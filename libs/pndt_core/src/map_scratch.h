@@ -245,6 +245,24 @@ class WorkShares
         }
     }
 
+    /// One chunk, as drain() takes them: false when none is left.
+    template <typename Fn>
+    bool drainOne(int thread, size_t chunk, Fn&& fn)
+    {
+        for (int k = 0; k < count_; ++k)
+        {
+            const int t = (thread + k) % count_;
+            WorkShare& sh = shares_[size_t(t)];
+            if (sh.next.load() >= sh.end) continue;
+            if (const size_t i0 = sh.next.fetch_add(chunk); i0 < sh.end)
+            {
+                fn(i0, std::min(sh.end, i0 + chunk), t);
+                return true;
+            }
+        }
+        return false;
+    }
+
    private:
     std::unique_ptr<WorkShare[]> shares_;
     int count_ = 0;
@@ -377,6 +395,10 @@ struct PanopticMap::Scratch
     };
     std::vector<BlockRef> block_refs;
     WorkShares ray_shares;                               ///< per thread: a contiguous share of the rays
+    Eigen::Vector3d ray_origin = Eigen::Vector3d::Zero(); ///< this frame's camera centre
+    size_t ray_count = 0;                                ///< this frame's rays
+    bool rays_parallel = false;                          ///< rays in chunks from ray_shares
+    bool rays_left = false;                              ///< one thread: not cast yet
     size_t frame_bricks = 0, frame_gaussians = 0;  ///< distinct bricks and Gaussians the rays met
     std::vector<std::pair<size_t, size_t>> miss_groups;  ///< block_refs of one brick
     /// Per thread: the miss groups whose first block is its own.

@@ -42,7 +42,7 @@
             if (a > b) continue;                                                                     \
             const int r = r_begin + j;                                                               \
             const uint32_t row = uint32_t(r) * uint32_t(W);                                          \
-            n += ROW_KERNEL(predicted + row, depth + row, a, b, w, row, row_remap[r], out + n);      \
+            n += ROW_KERNEL(predicted + row, depth + row, a, b, w, row, row_remap[r], out + n, W);   \
         }                                                                                            \
     }                                                                                                \
     return n
@@ -188,7 +188,8 @@ __attribute__((target("avx2"), always_inline)) inline void footprintChordsAvx2(c
 __attribute__((target("avx2"), always_inline)) inline uint32_t maskRowAvx2Body(const int32_t* predicted,
                                                                                 const float* depth, int c0, int c1,
                                                                                 DepthWindow w, uint32_t row,
-                                                                                const int32_t* to_frame, MaskSpan* out)
+                                                                                const int32_t* to_frame, MaskSpan* out,
+                                                                                int readable)
 {
     uint32_t n = 0;
     int32_t run_p = kUnmappedPixel;
@@ -200,12 +201,23 @@ __attribute__((target("avx2"), always_inline)) inline uint32_t maskRowAvx2Body(c
     alignas(32) int32_t qs[8];
     for (int c = c0; c <= c1; c += 8)
     {
-        // The last step loads only the row's remaining pixels (a masked load, as
-        // in the AVX-512 version: the scalar tail took up to 7 pixels of each row);
-        // the lanes beyond take the run's value and their changes are dropped.
+        // Lanes past c1 take the run's value and their changes are dropped. Plain
+        // loads while the 8 pixels lie within the image row (`readable` columns:
+        // the footprint kernel passes the width), masked ones only at its right
+        // edge: the masked loads held the loop (~13 % of the footprint kernel).
         const __m256i in = _mm256_cmpgt_epi32(_mm256_set1_epi32(c1 + 1 - c), lane);
-        const __m256i p = _mm256_maskload_epi32(predicted + c, in);
-        const __m256 d = _mm256_maskload_ps(depth + c, in);
+        __m256i p;
+        __m256 d;
+        if (c + 8 <= readable)
+        {
+            p = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(predicted + c));
+            d = _mm256_loadu_ps(depth + c);
+        }
+        else
+        {
+            p = _mm256_maskload_epi32(predicted + c, in);
+            d = _mm256_maskload_ps(depth + c, in);
+        }
         // Ordered compares: NaN fails.
         const __m256 ok = _mm256_and_ps(_mm256_cmp_ps(lo, d, _CMP_LE_OQ), _mm256_cmp_ps(d, hi, _CMP_LE_OQ));
         const __m256i run = _mm256_set1_epi32(run_p);
@@ -230,7 +242,7 @@ __attribute__((target("avx512f"), always_inline)) inline uint32_t maskRowAvx512B
                                                                                     const float* depth, int c0, int c1,
                                                                                     DepthWindow w, uint32_t row,
                                                                                     const int32_t* to_frame,
-                                                                                    MaskSpan* out)
+                                                                                    MaskSpan* out, int /*readable*/)
 {
     uint32_t n = 0;
     int32_t run_p = kUnmappedPixel;
@@ -268,13 +280,13 @@ __attribute__((target("avx2"))) static uint32_t maskRowAvx2Impl(const int32_t* p
                                                                  int c1, DepthWindow w, uint32_t row,
                                                                  const int32_t* to_frame, MaskSpan* out)
 {
-    return maskRowAvx2Body(predicted, depth, c0, c1, w, row, to_frame, out);
+    return maskRowAvx2Body(predicted, depth, c0, c1, w, row, to_frame, out, c1 + 1);
 }
 __attribute__((target("avx512f"))) static uint32_t maskRowAvx512Impl(const int32_t* predicted, const float* depth,
                                                                      int c0, int c1, DepthWindow w, uint32_t row,
                                                                      const int32_t* to_frame, MaskSpan* out)
 {
-    return maskRowAvx512Body(predicted, depth, c0, c1, w, row, to_frame, out);
+    return maskRowAvx512Body(predicted, depth, c0, c1, w, row, to_frame, out, c1 + 1);
 }
 
 // The footprint's rows in one call, the row kernel inlined: a thing voxel at

@@ -204,18 +204,31 @@ FrameStats PanopticMap::integrate(const FrameView& view, const Pose& T_world_cam
     const auto t1 = Clock::now();
     updateShapes(st);
     const auto t2 = Clock::now();
-    updateOccupancy(T_world_cam, st);
-    const auto t3 = Clock::now();
-    if (frame.hasInstances()) matchInstances(frame, T_world_cam, st);
-    const auto t4 = Clock::now();
-    if (frame.hasLabels()) updateHistograms(frame, st);
+    // The ray walk reads none of what matching and the histograms read or write
+    // (rays skip this frame's hit voxels, those two touch only them and their
+    // records, and the walk writes only its own blocks), so the workers walk rays
+    // while the caller runs those two stages, taking the stages' tasks between
+    // chunks of rays. The misses, which write the map, come after all three.
+    prepareRays(T_world_cam);
+    auto piece = [this](int thread) { return castRayPiece(thread); };
+    Clock::time_point t3, t4, t5;
+    {
+        WorkerPool::Background rays(scratch_->pool.get(), piece);
+        if (frame.hasInstances()) matchInstances(frame, T_world_cam, st);
+        t3 = Clock::now();
+        if (frame.hasLabels()) updateHistograms(frame, st);
+        t4 = Clock::now();
+        rays.finish();
+    }
+    finishOccupancy(st);
+    t5 = Clock::now();
     mergeFragments(st);
-    const auto t5 = Clock::now();
+    const auto t6 = Clock::now();
     st.seconds_projection = seconds(t0, t1);
     st.seconds_ndt = seconds(t1, t2);
-    st.seconds_occupancy = seconds(t2, t3);
-    st.seconds_matching = seconds(t3, t4);
-    st.seconds_histograms = seconds(t4, t5);
+    st.seconds_matching = seconds(t2, t3);
+    st.seconds_histograms = seconds(t3, t4) + seconds(t5, t6);
+    st.seconds_occupancy = seconds(t4, t5);
     return st;
 }
 

@@ -78,6 +78,66 @@ class WorkerPool
         WorkerPool* pool_;
     };
 
+    /// Work for the workers while the caller goes on with other stages (the
+    /// ray walk during instance matching): a worker with no task calls
+    /// piece(thread), which does one small piece and returns false when none
+    /// is left; between pieces it takes the caller's run() tasks. finish()
+    /// does the pieces left on the caller's thread (thread 0) and returns when
+    /// no worker is inside one; the destructor finishes too (an exception
+    /// thrown by the caller's stage must not leave workers in a dead frame).
+    /// Pieces must not depend on which thread runs them. One at a time.
+    class Background
+    {
+       public:
+        template <typename Fn>
+        Background(WorkerPool* pool, Fn& piece) : pool_(pool), ctx_(&piece)
+        {
+            call_ = [](void* ctx, int thread) { return (*static_cast<Fn*>(ctx))(thread); };
+            if (pool_ && !pool_->workers_.empty()) pool_->post(this);
+        }
+        ~Background()
+        {
+            try
+            {
+                finish();
+            }
+            catch (...)  // the caller's own exception is on its way already
+            {
+            }
+        }
+        Background(const Background&) = delete;
+        Background& operator=(const Background&) = delete;
+
+        void finish()
+        {
+            if (finished_) return;
+            finished_ = true;
+            std::exception_ptr mine;
+            try
+            {
+                while (call_(ctx_, 0))
+                {
+                }
+            }
+            catch (...)  // rethrown once no worker is inside a piece
+            {
+                mine = std::current_exception();
+            }
+            if (pool_ && !pool_->workers_.empty()) pool_->withdraw();
+            if (mine) std::rethrow_exception(mine);
+            if (error_) std::rethrow_exception(error_);
+        }
+
+       private:
+        friend class WorkerPool;
+        WorkerPool* pool_;
+        void* ctx_;
+        bool (*call_)(void*, int) = nullptr;
+        uint64_t seq_ = 0;
+        bool finished_ = false;
+        std::exception_ptr error_;  // under the pool's mutex_
+    };
+
     /// Calls fn(task) for every task in [0, n); `fn` may run on any thread.
     /// Exceptions are caught and the first is rethrown here.
     template <typename Fn>
@@ -139,6 +199,49 @@ class WorkerPool
         std::exception_ptr error;  // under mutex_
     };
 
+    void post(Background* bg)
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        bg->seq_ = background_seq_.load() + 1;
+        background_.store(bg);
+        background_seq_.store(bg->seq_);
+        generation_.fetch_add(1);  // wakes sleeping workers; no job: they go to the pieces
+        wake_.notify_all();
+    }
+    void withdraw()
+    {
+        background_.store(nullptr);
+        while (background_busy_.load() != 0) pause();
+    }
+    /// A worker's piece of the background work; false when there was none
+    /// (`exhausted` then remembers the work, so the worker stops asking).
+    bool backgroundPiece(int thread, uint64_t& exhausted)
+    {
+        const uint64_t seq = background_seq_.load();
+        if (seq == exhausted) return false;
+        // Announce before looking at it, so that withdraw() cannot return (and
+        // the work disappear) between the two.
+        background_busy_.fetch_add(1);
+        bool more = false;
+        if (Background* bg = background_.load())
+        {
+            try
+            {
+                more = bg->call_(bg->ctx_, thread);
+            }
+            catch (...)
+            {
+                std::lock_guard<std::mutex> lock(mutex_);
+                if (!bg->error_) bg->error_ = std::current_exception();
+            }
+            if (!more) exhausted = bg->seq_;
+        }
+        else
+            exhausted = seq;
+        background_busy_.fetch_sub(1);
+        return more;
+    }
+
     static void pause()
     {
 #if defined(__x86_64__) || defined(_M_X64)
@@ -187,14 +290,19 @@ class WorkerPool
 
     void workerLoop(int thread)
     {
-        uint64_t seen = 0;
+        uint64_t seen = 0, exhausted = 0;
         for (;;)
         {
             // A new job: spin (a little, or during a burst), then sleep until one comes.
-            const auto start = std::chrono::steady_clock::now();
+            auto start = std::chrono::steady_clock::now();
             for (;;)
             {
                 if (generation_.load() != seen || stop_.load()) break;
+                if (backgroundPiece(thread, exhausted))
+                {
+                    start = std::chrono::steady_clock::now();
+                    continue;
+                }
                 const auto spun = std::chrono::steady_clock::now() - start;
                 if (spun >= kBurstSpin || (spun >= kSpin && bursts_.load() == 0)) break;
                 pause();
@@ -222,6 +330,9 @@ class WorkerPool
     std::atomic<int> busy_{0};
     std::atomic<int> bursts_{0};
     std::atomic<bool> stop_{false};
+    std::atomic<Background*> background_{nullptr};
+    std::atomic<uint64_t> background_seq_{0};
+    std::atomic<int> background_busy_{0};
 };
 
 }  // namespace pndt

@@ -41,9 +41,12 @@ struct FrameStats
     uint64_t ray_steps = 0;              ///< voxels visited by the free-space rays
     double seconds_projection = 0;       ///< pixels to voxels, sample sums, voxel creation
     double seconds_ndt = 0;              ///< NDT shape and hit log-odds update
-    double seconds_occupancy = 0;        ///< free-space rays and their misses
-    double seconds_matching = 0;         ///< back-projection (vtou) and IoU matching
-    double seconds_histograms = 0;       ///< semantic and instance histogram updates
+    /// Free-space rays and their misses. With several threads the workers walk
+    /// rays during matching and the histograms: this is then the rest of the
+    /// walk and the misses, and the walk's share is in those two.
+    double seconds_occupancy = 0;
+    double seconds_matching = 0;         ///< back-projection (vtou) and IoU matching (see above)
+    double seconds_histograms = 0;       ///< semantic and instance histogram updates (see above)
     double secondsTotal() const
     {
         return seconds_projection + seconds_ndt + seconds_occupancy + seconds_matching + seconds_histograms;
@@ -219,7 +222,13 @@ class PanopticMap
     void projectPixels(const FramePixels& f, const Pose& T, FrameStats& st);
     void projectBand(const FramePixels& f, const Pose& T, int band, int bands);
     void updateShapes(FrameStats& st);
-    void updateOccupancy(const Pose& T, FrameStats& st);
+    /// The ray stage in three steps: its rays and shares; one piece of the walk
+    /// (a chunk of rays on `thread`, false when none is left), which the
+    /// workers take while the caller matches instances and updates the
+    /// histograms; then the misses.
+    void prepareRays(const Pose& T);
+    bool castRayPiece(int thread);
+    void finishOccupancy(FrameStats& st);
     void castRays(const Eigen::Vector3d& origin, size_t first_ray, size_t end_ray, RayWorker& worker);
     void applyMisses(FrameStats& st);
     void matchInstances(const FramePixels& f, const Pose& T, FrameStats& st);
