@@ -649,8 +649,8 @@ void PanopticMap::updateShapes(FrameStats& st)
 
 namespace
 {
-/// Rays a thread takes at a time. A worker takes the caller's matching tasks
-/// between chunks: at 5 cm a chunk is ~25 us of walking.
+/// Rays a thread takes at a time. A worker takes the tasks of the caller's
+/// stages (matching, histograms) between chunks: at 5 cm a chunk is ~25 us.
 constexpr size_t kRayChunk = 64;
 }  // namespace
 

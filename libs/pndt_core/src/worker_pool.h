@@ -79,7 +79,7 @@ class WorkerPool
     };
 
     /// Work for the workers while the caller goes on with other stages (the
-    /// ray walk during instance matching): a worker with no task calls
+    /// ray walk during matching and the histograms): a worker with no task calls
     /// piece(thread), which does one small piece and returns false when none
     /// is left; between pieces it takes the caller's run() tasks. finish()
     /// does the pieces left on the caller's thread (thread 0) and returns when
