@@ -669,27 +669,23 @@ void PanopticMap::prepareRays(const Pose& T)
     if (s.ray_workers.size() < size_t(threads)) s.ray_workers.resize(size_t(threads));
     for (int t = 0; t < threads; ++t) s.ray_workers[size_t(t)].clear();
     s.rays_parallel = threads > 1 && s.ray_count > kRayChunk;
-    s.rays_left = true;
-    if (s.rays_parallel)
-    {
-        s.ray_shares.reset(threads);
-        for (int t = 0; t < threads; ++t)
-            s.ray_shares.set(t, share(s.ray_count, t, threads), share(s.ray_count, t + 1, threads));
-    }
+    // Without rays_parallel the caller's share holds every ray (the others none).
+    const int sharing = s.rays_parallel ? threads : 1;
+    s.ray_shares.reset(threads);  // the same count every frame: no reallocation
+    for (int t = 0; t < threads; ++t)
+        s.ray_shares.set(t, t < sharing ? share(s.ray_count, t, sharing) : s.ray_count,
+                         t < sharing ? share(s.ray_count, t + 1, sharing) : s.ray_count);
 }
 
 bool PanopticMap::castRayPiece(int thread)
 {
     Scratch& s = *scratch_;
-    if (s.rays_parallel)
-        return s.ray_shares.drainOne(thread, kRayChunk, [&](size_t i0, size_t i1, int) {
-            castRays(s.ray_origin, i0, i1, s.ray_workers[size_t(thread)]);
-        });
-    // One thread: every ray in one call, by the caller.
-    if (thread != 0 || !s.rays_left) return false;
-    s.rays_left = false;
-    castRays(s.ray_origin, 0, s.ray_count, s.ray_workers[0]);
-    return false;
+    // Otherwise every ray in one call, by the caller: only its blocks are merged.
+    if (!s.rays_parallel && thread != 0) return false;
+    const size_t chunk = s.rays_parallel ? kRayChunk : std::max<size_t>(1, s.ray_count);
+    return s.ray_shares.drainOne(thread, chunk, [&](size_t i0, size_t i1, int) {
+        castRays(s.ray_origin, i0, i1, s.ray_workers[size_t(thread)]);
+    });
 }
 
 void PanopticMap::finishOccupancy(FrameStats& st)

@@ -237,15 +237,13 @@ class WorkShares
     template <typename Fn>
     void drain(int thread, size_t chunk, Fn&& fn)
     {
-        for (int k = 0; k < count_; ++k)
+        while (drainOne(thread, chunk, fn))
         {
-            const int t = (thread + k) % count_;
-            WorkShare& sh = shares_[size_t(t)];
-            for (size_t i0; (i0 = sh.next.fetch_add(chunk)) < sh.end;) fn(i0, std::min(sh.end, i0 + chunk), t);
         }
     }
 
-    /// One chunk, as drain() takes them: false when none is left.
+    /// One chunk: the thread's own share first, then the others' in turn;
+    /// false when none is left.
     template <typename Fn>
     bool drainOne(int thread, size_t chunk, Fn&& fn)
     {
@@ -397,8 +395,7 @@ struct PanopticMap::Scratch
     WorkShares ray_shares;                               ///< per thread: a contiguous share of the rays
     Eigen::Vector3d ray_origin = Eigen::Vector3d::Zero(); ///< this frame's camera centre
     size_t ray_count = 0;                                ///< this frame's rays
-    bool rays_parallel = false;                          ///< rays in chunks from ray_shares
-    bool rays_left = false;                              ///< one thread: not cast yet
+    bool rays_parallel = false;                          ///< chunks for every thread (else one for the caller)
     size_t frame_bricks = 0, frame_gaussians = 0;  ///< distinct bricks and Gaussians the rays met
     std::vector<std::pair<size_t, size_t>> miss_groups;  ///< block_refs of one brick
     /// Per thread: the miss groups whose first block is its own.
