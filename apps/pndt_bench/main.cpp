@@ -16,6 +16,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <thread>
 #ifdef __linux__
 #include <pthread.h>
@@ -273,19 +274,23 @@ Measured measurePanoptic(const bench::BenchFrames& b, const MapOptions& o, int r
     return m;
 }
 
-/// One measurement per thread count, their runs interleaved (1, 2, 1, 2, ...):
-/// on a shared machine both then see the same neighbours, which matters for
-/// their ratio more than for either.
+/// One measurement per thread count, their runs interleaved (1, 2, 1, 2, ...),
+/// and after each round `also()` (the occupancy mappers' runs): on a shared
+/// machine all then see the same neighbours, which matters for their ratios
+/// more than for any one of them.
 std::vector<Measured> measureThreadCounts(const bench::BenchFrames& b, MapOptions o, const std::vector<int>& threads,
-                                          int repeat)
+                                          int repeat, const std::function<void()>& also)
 {
     std::vector<Measured> ms(threads.size());
     for (int i = 0; i < repeat; ++i)
+    {
         for (size_t k = 0; k < threads.size(); ++k)
         {
             o.threads = threads[k];
             ms[k].runs.push_back(runPanoptic(b, o));
         }
+        if (also) also();
+    }
     for (Measured& m : ms) sortRuns(m);
     return ms;
 }
@@ -433,7 +438,7 @@ int main(int argc, char** argv)
          pin = false;
     std::string markdown, stat = "median", recording;
     app.add_option("-n,--frames", frames, "frames per run")->capture_default_str();
-    app.add_option("--repeat", repeat, "runs per measurement (the thread counts' runs alternate; --stat picks the one reported)")->capture_default_str();
+    app.add_option("--repeat", repeat, "runs per measurement (the thread counts' and OctoMap's runs alternate; --stat picks the one reported)")->capture_default_str();
     app.add_option("--threads", threads, "thread counts for PanopticNDT (0 = all cores); the first is the reference")
         ->capture_default_str();
     app.add_option("--octomap-default-frames", octomap_frames, "frames for OctoMap's slow default insert")
@@ -526,7 +531,15 @@ int main(int argc, char** argv)
             o.max_range = max_range;
             o.pin_threads = pin;
             uint64_t hash1 = 0;
-            std::vector<Measured> per_count = measureThreadCounts(b, o, threads, repeat);
+            // OctoMap's (and Bonxai's) runs alternate with ours.
+            const bool bonxai = !only_panoptic && bench::haveBonxai() && !no_bonxai;
+            std::vector<OctoRun> runs, bruns;
+            const auto occupancyRuns = [&] {
+                if (only_panoptic) return;
+                runs.push_back(benchOctomap(b, v, max_range, true));
+                if (bonxai) bruns.push_back(bench::runBonxai(b, v, max_range));
+            };
+            std::vector<Measured> per_count = measureThreadCounts(b, o, threads, repeat, occupancyRuns);
             for (size_t k = 0; k < threads.size(); ++k)
             {
                 o.threads = threads[k];
@@ -583,8 +596,6 @@ int main(int argc, char** argv)
             }
             if (!only_panoptic)
             {
-                std::vector<OctoRun> runs;
-                for (int i = 0; i < repeat; ++i) runs.push_back(benchOctomap(b, v, max_range, true));
                 const OctoRun& last = runs.back();
                 const OccupancyStat fast = occupancyStat(runs, n);
                 sum.octo_fast = fast.fps;
@@ -595,10 +606,8 @@ int main(int argc, char** argv)
                     "fastest run {:.2f}, each frame's fastest {:.2f} frames/s\n",
                     sum.octo_fast, last.cells, last.bytes_per_cell, fast.median_fps, fast.fastest_fps,
                     fast.frame_min_fps);
-                if (bench::haveBonxai() && !no_bonxai)
+                if (bonxai)
                 {
-                    std::vector<OctoRun> bruns;
-                    for (int i = 0; i < repeat; ++i) bruns.push_back(bench::runBonxai(b, v, max_range));
                     const OccupancyStat bx = occupancyStat(bruns, n);
                     sum.bonxai = bx.fps;
                     sum.bonxai_cells = bruns.back().cells;
