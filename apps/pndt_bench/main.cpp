@@ -556,6 +556,26 @@ int main(int argc, char** argv)
                     st.rays / b.frames.size(), double(st.ray_steps) / n, st.hit_voxels / b.frames.size());
                 fmt::print("    {}\n", m.others(b.frames.size()));
                 fmt::print("    frame latency (this run): {}\n", latencyText(r.frame_seconds));
+                if (o.resolvedThreads() > 1)
+                {
+                    // Where the threads' time goes: short of x threads vs one thread by
+                    // idle time (waiting, serial parts) or by more work than one thread did.
+                    const double caller = 1e3 * (r.seconds - r.propagation) / n;
+                    const double waiting = ms * st.seconds_caller_waiting, workers = ms * st.seconds_workers_busy;
+                    const double busy = caller - waiting + workers;
+                    std::string vs_one;
+                    if (k > 0 && sum.pndt.front().first == 1)
+                    {
+                        const PanopticRun& one = sum.pndt.front().second.median();
+                        const double one_ms = 1e3 * (one.seconds - one.propagation) / n;
+                        vs_one = fmt::format("; busy x{:.2f} the one-thread frame's {:.2f} ms", busy / one_ms, one_ms);
+                    }
+                    fmt::print(
+                        "    thread time per frame: caller {:.2f} ms ({:.2f} of it waiting for workers), workers busy "
+                        "{:.2f}; busy {:.2f}, idle {:.2f} of {} x {:.2f}{}\n",
+                        caller, waiting, workers, busy, o.resolvedThreads() * caller - busy, o.resolvedThreads(),
+                        caller, vs_one);
+                }
                 const auto& mu = r.mem;
                 const double vox = double(std::max<size_t>(1, r.voxels));
                 fmt::print(

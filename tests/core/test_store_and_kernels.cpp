@@ -9,12 +9,14 @@
 #include <pndt/record_pool.h>
 
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <map>
 #include <random>
 #include <set>
+#include <thread>
 #include <cstdio>
 
 #include <sys/resource.h>
@@ -187,6 +189,37 @@ TEST(WorkerPool, RunsEveryTaskOnceOnAnyThreadAndRethrows)
         pool.run(3, [&](int) { after.fetch_add(1); });  // the pool still works
         EXPECT_EQ(after.load(), 3);
     }
+}
+
+TEST(WorkerPool, CountsTheWorkersBusyTimeAndTheCallersWait)
+{
+    using std::chrono::milliseconds;
+    WorkerPool one(1);
+    one.run(4, [](int) { std::this_thread::sleep_for(milliseconds(2)); });
+    EXPECT_EQ(one.workersBusy().count(), 0);  // the caller ran them: no worker, no wait
+    EXPECT_EQ(one.callerWaiting().count(), 0);
+
+    // Two tasks, two threads: each task waits for the other thread to hold the
+    // other task, so the worker runs one. Its task then takes 40 ms more, which
+    // the caller, done at once, waits out.
+    WorkerPool two(2);
+    std::atomic<int> arrived{0};
+    std::atomic<int> worker_tasks{0};
+    two.runWithThread(2, [&](int, int thread) {
+        arrived.fetch_add(1);
+        const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+        while (arrived.load() < 2 && std::chrono::steady_clock::now() < give_up) std::this_thread::yield();
+        if (thread != 0)
+        {
+            worker_tasks.fetch_add(1);
+            std::this_thread::sleep_for(milliseconds(40));
+        }
+    });
+    ASSERT_EQ(worker_tasks.load(), 1);
+    EXPECT_GE(two.workersBusy(), milliseconds(40));
+    // About the worker's 40 ms, less the time the caller took to see the other arrive.
+    EXPECT_GE(two.callerWaiting(), milliseconds(20));
+    EXPECT_LE(two.callerWaiting(), two.workersBusy() + milliseconds(1000));
 }
 
 TEST(WorkerPool, BackgroundPiecesRunOnceBesideTheCallersTasksAndRethrow)

@@ -36,6 +36,8 @@ FrameStats& FrameStats::operator+=(const FrameStats& o)
     seconds_occupancy += o.seconds_occupancy;
     seconds_matching += o.seconds_matching;
     seconds_histograms += o.seconds_histograms;
+    seconds_workers_busy += o.seconds_workers_busy;
+    seconds_caller_waiting += o.seconds_caller_waiting;
     return *this;
 }
 
@@ -191,7 +193,10 @@ FrameStats PanopticMap::integrate(const FrameView& view, const Pose& T_world_cam
         return std::chrono::duration<double>(b - a).count();
     };
     // Workers stay awake through the frame's stages (they check the frame too).
-    const WorkerPool::Burst burst(scratch().pool.get());
+    WorkerPool* const pool = scratch().pool.get();
+    const WorkerPool::Burst burst(pool);
+    const auto workers_busy = pool ? pool->workersBusy() : std::chrono::nanoseconds(0);
+    const auto caller_waiting = pool ? pool->callerWaiting() : std::chrono::nanoseconds(0);
     const FramePixels frame = resolveFrame(view, options_, scratch_->input);
     validateClasses(frame);
     if (!T_world_cam.matrix().allFinite())
@@ -229,6 +234,11 @@ FrameStats PanopticMap::integrate(const FrameView& view, const Pose& T_world_cam
     st.seconds_matching = seconds(t2, t3);
     st.seconds_histograms = seconds(t3, t4) + seconds(t5, t6);
     st.seconds_occupancy = seconds(t4, t5);
+    if (pool)
+    {
+        st.seconds_workers_busy = std::chrono::duration<double>(pool->workersBusy() - workers_busy).count();
+        st.seconds_caller_waiting = std::chrono::duration<double>(pool->callerWaiting() - caller_waiting).count();
+    }
     return st;
 }
 

@@ -56,6 +56,14 @@ class WorkerPool
     WorkerPool(const WorkerPool&) = delete;
     WorkerPool& operator=(const WorkerPool&) = delete;
 
+    /// Thread time since the pool started, for a frame's breakdown (the
+    /// difference over the frame): the workers' time in tasks and background
+    /// pieces, and the caller's time waiting for them. Complete once the
+    /// stage that used them has returned (both are added before the worker
+    /// lets go of the job or piece).
+    std::chrono::nanoseconds workersBusy() const { return std::chrono::nanoseconds(workers_busy_ns_.load()); }
+    std::chrono::nanoseconds callerWaiting() const { return std::chrono::nanoseconds(caller_waiting_ns_.load()); }
+
     int threads() const { return int(workers_.size()) + 1; }
 
     /// While a Burst lives (a frame's stages), idle workers spin instead of
@@ -170,7 +178,8 @@ class WorkerPool
         work(job, 0);
         // Wait for the tasks other threads took: spin a little (during a burst
         // as long as the workers do: the next stage follows), then sleep.
-        const auto until = std::chrono::steady_clock::now() + (bursts_.load() > 0 ? kBurstSpin : kSpin);
+        const auto waiting = std::chrono::steady_clock::now();
+        const auto until = waiting + (bursts_.load() > 0 ? kBurstSpin : kSpin);
         while (job.finished.load() < job.tasks && std::chrono::steady_clock::now() < until) pause();
         if (job.finished.load() < job.tasks)
         {
@@ -180,6 +189,7 @@ class WorkerPool
         // No worker may still hold the job when it goes out of scope.
         job_.store(nullptr);
         while (busy_.load() != 0) pause();
+        addSince(caller_waiting_ns_, waiting);
         if (job.error) std::rethrow_exception(job.error);
     }
 
@@ -211,7 +221,9 @@ class WorkerPool
     void withdraw()
     {
         background_.store(nullptr);
+        const auto waiting = std::chrono::steady_clock::now();
         while (background_busy_.load() != 0) pause();
+        addSince(caller_waiting_ns_, waiting);
     }
     /// A worker's piece of the background work; false when there was none
     /// (`exhausted` then remembers the work, so the worker stops asking).
@@ -225,6 +237,7 @@ class WorkerPool
         bool more = false;
         if (Background* bg = background_.load())
         {
+            const auto start = std::chrono::steady_clock::now();
             try
             {
                 more = bg->call_(bg->ctx_, thread);
@@ -234,12 +247,20 @@ class WorkerPool
                 std::lock_guard<std::mutex> lock(mutex_);
                 if (!bg->error_) bg->error_ = std::current_exception();
             }
+            addSince(workers_busy_ns_, start);
             if (!more) exhausted = bg->seq_;
         }
         else
             exhausted = seq;
         background_busy_.fetch_sub(1);
         return more;
+    }
+
+    static void addSince(std::atomic<int64_t>& total, std::chrono::steady_clock::time_point start)
+    {
+        total.fetch_add(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start)
+                            .count(),
+                        std::memory_order_relaxed);
     }
 
     static void pause()
@@ -317,7 +338,12 @@ class WorkerPool
             // Announce before looking at the job, so that run() cannot return
             // (and the job disappear) between the two.
             busy_.fetch_add(1);
-            if (Job* job = job_.load()) work(*job, thread);
+            if (Job* job = job_.load())
+            {
+                const auto start = std::chrono::steady_clock::now();
+                work(*job, thread);
+                addSince(workers_busy_ns_, start);
+            }
             busy_.fetch_sub(1);
         }
     }
@@ -328,6 +354,7 @@ class WorkerPool
     std::atomic<Job*> job_{nullptr};
     std::atomic<uint64_t> generation_{0};
     std::atomic<int> busy_{0};
+    std::atomic<int64_t> workers_busy_ns_{0}, caller_waiting_ns_{0};
     std::atomic<int> bursts_{0};
     std::atomic<bool> stop_{false};
     std::atomic<Background*> background_{nullptr};

@@ -47,6 +47,11 @@ struct FrameStats
     double seconds_occupancy = 0;
     double seconds_matching = 0;         ///< back-projection (vtou) and IoU matching (see above)
     double seconds_histograms = 0;       ///< semantic and instance histogram updates (see above)
+    /// With several threads: the workers' time in the frame's tasks (summed
+    /// over workers) and the caller's time waiting for them; so the frame's
+    /// busy thread time is the caller's wall time minus the waiting plus this.
+    double seconds_workers_busy = 0;
+    double seconds_caller_waiting = 0;
     double secondsTotal() const
     {
         return seconds_projection + seconds_ndt + seconds_occupancy + seconds_matching + seconds_histograms;
