@@ -400,15 +400,22 @@ void PanopticMap::renameInstances(const std::function<uint32_t(uint32_t)>& renam
     for (InstanceRecord& rec : instance_records_)
     {
         auto& h = rec.hist;
+        uint32_t ids[InstanceHistogram::kCapacity];
+        bool any = false;
+        const int n = h.size();
+        for (int i = 0; i < n; ++i)
+        {
+            ids[i] = rename(h.ids[i]);
+            if (ids[i] == 0) throw std::invalid_argument("renameInstances: instance id 0 is reserved");
+            next_instance_id_ = std::max(next_instance_id_, ids[i] + 1);
+            any |= ids[i] != h.ids[i];
+        }
+        // Most records hold no renamed id and stay as they are: rebuilding every
+        // one made this the largest serial part of a frame with fragment merges.
+        if (!any) continue;
         // Two ids may be renamed to one: merge their weights, keep the order.
         InstanceHistogram renamed;
-        for (int i = 0, n = h.size(); i < n; ++i)
-        {
-            const uint32_t id = rename(h.ids[i]);
-            if (id == 0) throw std::invalid_argument("renameInstances: instance id 0 is reserved");
-            renamed.add(id, h.weight(i));
-            next_instance_id_ = std::max(next_instance_id_, id + 1);
-        }
+        for (int i = 0; i < n; ++i) renamed.add(ids[i], h.weight(i));
         h = renamed;
     }
     // Frames seen follow the ids; merged ones keep the larger count (the frames overlap).
