@@ -186,6 +186,53 @@ TEST(PanopticMapFrame, RenameInstancesMergesAndMovesTheCounter)
     EXPECT_EQ(map.nextInstanceId(), 100u);
 }
 
+TEST(PanopticMapFrame, RenameInstancesInARangeAsksOnlyForIdsInIt)
+{
+    // Three records: ids {1, 7}, {9}, {12, 20}. Range [7, 12]: 7 -> 1 (merged
+    // with the 1 beside it), 9 and 12 kept by rename, 1 and 20 never asked
+    // about, although rename would move them.
+    std::vector<InstanceRecord> inst(3);
+    inst[0].hist.add(1, 3.f);
+    inst[0].hist.add(7, 2.f);
+    inst[1].hist.add(9, 1.f);
+    inst[2].hist.add(12, 4.f);
+    inst[2].hist.add(20, 0.5f);
+    std::vector<LabelRecord> labels(3);
+    std::vector<Voxel> voxels(3);
+    std::vector<SurfaceRecord> surfaces(3);
+    std::vector<uint64_t> keys;
+    for (uint32_t i = 0; i < 3; ++i)
+    {
+        labels[i].semantic.add(5, 1.f);
+        labels[i].instances = i;
+        surfaces[i].labels = i;
+        voxels[i].surface = i;
+        keys.push_back(VoxelKey{int32_t(i), 0, 0}.packed());
+    }
+    PanopticMap map;
+    map.restore(keys, voxels, surfaces, labels, inst, 21);
+    std::vector<uint32_t> asked;
+    map.renameInstances(
+        [&](uint32_t id) {
+            asked.push_back(id);
+            return id == 7 ? 1u : id == 1 || id == 20 ? 99u : id;
+        },
+        7, 12);
+    std::sort(asked.begin(), asked.end());
+    asked.erase(std::unique(asked.begin(), asked.end()), asked.end());
+    EXPECT_EQ(asked, (std::vector<uint32_t>{7, 9, 12}));
+    const auto& r = map.instanceRecords();
+    ASSERT_EQ(r[0].hist.size(), 1);
+    EXPECT_EQ(r[0].hist.ids[0], 1u);
+    EXPECT_FLOAT_EQ(r[0].hist.weight(0), 5.f);
+    ASSERT_EQ(r[1].hist.size(), 1);
+    EXPECT_EQ(r[1].hist.ids[0], 9u);
+    ASSERT_EQ(r[2].hist.size(), 2);
+    EXPECT_EQ(r[2].hist.ids[0], 12u);
+    EXPECT_EQ(r[2].hist.ids[1], 20u);
+    EXPECT_EQ(map.nextInstanceId(), 21u);
+}
+
 TEST(PanopticMapFrame, RaysFreeTheVoxelsOfTheReferenceWalkInEveryOctantAndAcrossBricks)
 {
     // A camera at negative coordinates, near brick corners, looking into each

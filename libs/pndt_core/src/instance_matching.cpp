@@ -498,16 +498,23 @@ void PanopticMap::mergeFragments(FrameStats& st)
     if (s.fragment_merges.empty()) return;
     // Chains (c into b, b into a) end at the oldest id.
     tsl::robin_map<uint32_t, uint32_t> into;
-    for (const auto& [from, to] : s.fragment_merges) into[from] = to;
+    uint32_t first = UINT32_MAX, last = 0;  // the merged ids' range: records without one skip the lookups
+    for (const auto& [from, to] : s.fragment_merges)
+    {
+        into[from] = to;
+        first = std::min(first, from);
+        last = std::max(last, from);
+    }
     const auto root = [&](uint32_t z) {
         for (auto it = into.find(z); it != into.end(); it = into.find(z)) z = it->second;
         return z;
     };
-    renameInstances(root);
+    renameInstances(root, first, last);
     st.merged_fragments += into.size();
     // Evidence about a merged id now concerns its root: start those pairs afresh.
+    const auto merged = [&](uint32_t z) { return z >= first && z <= last && into.count(z); };
     for (auto it = s.pair_evidence.begin(); it != s.pair_evidence.end();)
-        if (into.count(uint32_t(it->first >> 32)) || into.count(uint32_t(it->first)))
+        if (merged(uint32_t(it->first >> 32)) || merged(uint32_t(it->first)))
             it = s.pair_evidence.erase(it);
         else
             ++it;

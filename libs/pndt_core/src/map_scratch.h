@@ -114,7 +114,9 @@ class SpanBuffer
 };
 
 /// The rows of the image one task projects: its own voxel table and counters.
-struct ProjectionBand
+/// alignas(64), as the other per-task structs below: tasks on different
+/// threads write their own, which must not share a cache line.
+struct alignas(64) ProjectionBand
 {
     tsl::robin_map<uint64_t, uint32_t, PackedKeyHash> index;  ///< packed key -> local slot
     std::vector<HitSlot> hits;
@@ -177,7 +179,7 @@ struct RayBlock
 };
 
 /// What one ray task keeps: its bricks and the Gaussians it computed.
-struct RayWorker
+struct alignas(64) RayWorker
 {
     tsl::robin_map<uint64_t, uint32_t, PackedKeyHash> block_of;  ///< brick key -> block
     std::vector<std::unique_ptr<RayBlock>> blocks;
@@ -197,7 +199,7 @@ struct RayWorker
 
 /// What one thread's pass over the misses leaves: the misses of voxels that
 /// do not exist yet (created afterwards, in brick order) and counts.
-struct MissChunk
+struct alignas(64) MissChunk
 {
     std::vector<uint16_t> slot;    ///< voxel in the brick, per miss
     std::vector<float> delta;      ///< its strongest miss
@@ -267,7 +269,7 @@ class WorkShares
 };
 
 /// Predicted instances of a band of image rows, in order of first pixel.
-struct PredictedBand
+struct alignas(64) PredictedBand
 {
     tsl::robin_map<uint32_t, uint32_t> index;  ///< raw predicted id -> local index
     std::vector<uint32_t> ids;
@@ -310,7 +312,7 @@ class MaskSpanBuffer
 /// once per mask; all clear between masks) and the thread's counts per map
 /// instance (summed afterwards: integer sums, so any split of the work gives
 /// the same totals).
-struct MaskWorker
+struct alignas(64) MaskWorker
 {
     std::vector<uint64_t> bits;
     std::vector<uint64_t> area;   ///< per group
@@ -342,7 +344,7 @@ struct SlotRecords
 };
 
 /// One histogram task: the voxels of one projection band, and the records it created.
-struct HistogramWorker
+struct alignas(64) HistogramWorker
 {
     /// A pixel's semantic update that found its voxel's record full without its
     /// class (semantic_eviction = false): applied through the map's spill after

@@ -395,8 +395,9 @@ void PanopticMap::restoreSpills(const std::vector<std::pair<uint32_t, SemanticSp
     invalidate();
 }
 
-void PanopticMap::renameInstances(const std::function<uint32_t(uint32_t)>& rename)
+void PanopticMap::renameInstances(const std::function<uint32_t(uint32_t)>& rename, uint32_t first, uint32_t last)
 {
+    const auto renamed = [&](uint32_t id) { return id < first || id > last ? id : rename(id); };
     for (InstanceRecord& rec : instance_records_)
     {
         auto& h = rec.hist;
@@ -405,7 +406,7 @@ void PanopticMap::renameInstances(const std::function<uint32_t(uint32_t)>& renam
         const int n = h.size();
         for (int i = 0; i < n; ++i)
         {
-            ids[i] = rename(h.ids[i]);
+            ids[i] = renamed(h.ids[i]);
             if (ids[i] == 0) throw std::invalid_argument("renameInstances: instance id 0 is reserved");
             next_instance_id_ = std::max(next_instance_id_, ids[i] + 1);
             any |= ids[i] != h.ids[i];
@@ -422,7 +423,7 @@ void PanopticMap::renameInstances(const std::function<uint32_t(uint32_t)>& renam
     tsl::robin_map<uint32_t, uint32_t> frames;
     for (const auto& [id, n] : instance_frames_)
     {
-        uint32_t& m = frames[rename(id)];
+        uint32_t& m = frames[renamed(id)];
         m = std::max(m, n);
     }
     instance_frames_ = std::move(frames);

@@ -13,6 +13,7 @@
 #include <tsl/robin_map.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -191,8 +192,10 @@ class PanopticMap
     void restoreSpills(const std::vector<std::pair<uint32_t, SemanticSpill>>& spills);
     /// Renames map instances (e.g. to carry ids over from the previous
     /// short-term map); `rename(id)` returns the new id, or id to keep it. The
-    /// id counter moves past every id in use.
-    void renameInstances(const std::function<uint32_t(uint32_t)>& rename);
+    /// id counter moves past every id in use. Ids outside [first, last] are
+    /// kept without asking `rename` (a merge of a few ids in a large map).
+    void renameInstances(const std::function<uint32_t(uint32_t)>& rename, uint32_t first = 1,
+                         uint32_t last = UINT32_MAX);
     /// Lets new instance ids start at `id` or later (globally unique ids across maps).
     void reserveInstanceIds(uint32_t id) { next_instance_id_ = std::max(next_instance_id_, id); }
 
