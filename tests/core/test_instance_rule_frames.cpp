@@ -258,6 +258,36 @@ TEST(InstanceRuleFrames, InstanceConfidenceGrowsWithFramesAndFallsWithRivals)
     EXPECT_EQ(map.instanceFrames()[0], std::make_pair(a.id, 5u));
 }
 
+TEST(InstanceRuleFrames, IdsNoRecordHoldsAreForgottenWhenTheCounterPassesASweep)
+{
+    PanopticMap map(paperRules());
+    const uint32_t sweep = PanopticMap::kDeadInstanceSweep;
+    const PanopticFrame left = wallWith({{0, 16, kChair, 1}});
+    for (int i = 0; i < 2; ++i) map.integrate(left, Pose::Identity());
+    ASSERT_EQ(map.nextInstanceId(), 2u);
+    // Ids 5 and sweep - 100 held by no record (as after evictions or merges),
+    // with frames seen and fragment evidence, and the counter two below a sweep.
+    map.reserveInstanceIds(sweep - 2);
+    map.restoreInstanceFrames({{1, 2}, {5, 3}, {sweep - 100, 1}});
+    map.restorePairEvidence({{1, 5, 2, 0}, {5, sweep - 100, 1, 1}});
+    // A new chair (id sweep - 2): the counter stays below the sweep, nothing is forgotten.
+    const PanopticFrame two = wallWith({{0, 16, kChair, 1}, {40, 56, kChair, 2}});
+    FrameStats st = map.integrate(two, Pose::Identity());
+    ASSERT_EQ(st.new_instances, 1u);
+    EXPECT_EQ(map.instanceFrames(), (std::vector<std::pair<uint32_t, uint32_t>>{
+                                        {1, 3}, {5, 3}, {sweep - 100, 1}, {sweep - 2, 1}}));
+    EXPECT_EQ(map.pairEvidence().size(), 2u);
+    // A third chair (id sweep - 1, counter to sweep): the dead ids go, the live keep their counts.
+    st = map.integrate(wallWith({{0, 16, kChair, 1}, {24, 32, kChair, 3}, {40, 56, kChair, 2}}), Pose::Identity());
+    ASSERT_EQ(st.new_instances, 1u);
+    ASSERT_EQ(st.matched_instances, 2u);
+    ASSERT_EQ(map.nextInstanceId(), sweep);
+    EXPECT_EQ(map.instanceFrames(),
+              (std::vector<std::pair<uint32_t, uint32_t>>{{1, 4}, {sweep - 2, 2}, {sweep - 1, 1}}));
+    EXPECT_TRUE(map.pairEvidence().empty());
+    EXPECT_EQ(map.instances().size(), 3u);
+}
+
 TEST(InstanceRuleFrames, IouMatchingOnHandDrawnMasks)
 {
     // A wall at 2 m, chairs drawn as column stripes; theta_M / theta_N = 0.5 / 0.05

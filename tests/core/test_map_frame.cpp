@@ -23,6 +23,29 @@ PanopticFrame wallFrame(float z)
     f.source = "TEST @ 1.0";
     return f;
 }
+
+/// A map of one voxel per record of `records` (its instance ids and weights,
+/// class 5), along x, with the id counter at `next_id`.
+void restoreInstanceRecords(PanopticMap& map, const std::vector<std::vector<std::pair<uint32_t, float>>>& records,
+                            uint32_t next_id)
+{
+    const size_t n = records.size();
+    std::vector<InstanceRecord> inst(n);
+    std::vector<LabelRecord> labels(n);
+    std::vector<Voxel> voxels(n);
+    std::vector<SurfaceRecord> surfaces(n);
+    std::vector<uint64_t> keys;
+    for (uint32_t i = 0; i < n; ++i)
+    {
+        for (const auto& [id, w] : records[i]) inst[i].hist.add(id, w);
+        labels[i].semantic.add(5, 1.f);
+        labels[i].instances = i;
+        surfaces[i].labels = i;
+        voxels[i].surface = i;
+        keys.push_back(VoxelKey{int32_t(i), 0, 0}.packed());
+    }
+    map.restore(keys, voxels, surfaces, labels, inst, next_id);
+}
 }  // namespace
 
 TEST(PanopticMapFrame, HitsAndFreeSpaceOfAWall)
@@ -191,26 +214,8 @@ TEST(PanopticMapFrame, RenameInstancesInARangeAsksOnlyForIdsInIt)
     // Three records: ids {1, 7}, {9}, {12, 20}. Range [7, 12]: 7 -> 1 (merged
     // with the 1 beside it), 9 and 12 kept by rename, 1 and 20 never asked
     // about, although rename would move them.
-    std::vector<InstanceRecord> inst(3);
-    inst[0].hist.add(1, 3.f);
-    inst[0].hist.add(7, 2.f);
-    inst[1].hist.add(9, 1.f);
-    inst[2].hist.add(12, 4.f);
-    inst[2].hist.add(20, 0.5f);
-    std::vector<LabelRecord> labels(3);
-    std::vector<Voxel> voxels(3);
-    std::vector<SurfaceRecord> surfaces(3);
-    std::vector<uint64_t> keys;
-    for (uint32_t i = 0; i < 3; ++i)
-    {
-        labels[i].semantic.add(5, 1.f);
-        labels[i].instances = i;
-        surfaces[i].labels = i;
-        voxels[i].surface = i;
-        keys.push_back(VoxelKey{int32_t(i), 0, 0}.packed());
-    }
     PanopticMap map;
-    map.restore(keys, voxels, surfaces, labels, inst, 21);
+    restoreInstanceRecords(map, {{{1, 3.f}, {7, 2.f}}, {{9, 1.f}}, {{12, 4.f}, {20, 0.5f}}}, 21);
     std::vector<uint32_t> asked;
     map.renameInstances(
         [&](uint32_t id) {
@@ -231,6 +236,26 @@ TEST(PanopticMapFrame, RenameInstancesInARangeAsksOnlyForIdsInIt)
     EXPECT_EQ(r[2].hist.ids[0], 12u);
     EXPECT_EQ(r[2].hist.ids[1], 20u);
     EXPECT_EQ(map.nextInstanceId(), 21u);
+}
+
+TEST(PanopticMapFrame, RenameInstancesMovesTheFramesSeenOfTheRenamedIdsOnly)
+{
+    // Records hold ids 1, 7, 9 and 12; frames seen also of 2, 3, 4, 20 (no record). 7 ->
+    // 1 (the larger count stays), 12 -> 30 (an id without frames seen yet),
+    // whether the range is narrower than the table (ids looked up) or not (the
+    // table walked).
+    const auto rename = [](uint32_t id) { return id == 7 ? 1u : id == 12 ? 30u : id; };
+    const std::vector<std::pair<uint32_t, uint32_t>> expected{{1, 5}, {2, 1}, {3, 1}, {4, 1}, {9, 2}, {20, 6}, {30, 4}};
+    for (const auto& [first, last] : {std::pair<uint32_t, uint32_t>{7, 12}, {1, UINT32_MAX}})
+    {
+        SCOPED_TRACE(::testing::Message() << "range " << first << ".." << last);
+        PanopticMap map;
+        restoreInstanceRecords(map, {{{1, 3.f}, {7, 2.f}}, {{9, 1.f}, {12, 4.f}}}, 21);
+        map.restoreInstanceFrames({{1, 3}, {2, 1}, {3, 1}, {4, 1}, {7, 5}, {9, 2}, {12, 4}, {20, 6}});
+        map.renameInstances(rename, first, last);
+        EXPECT_EQ(map.instanceFrames(), expected);
+        EXPECT_EQ(map.nextInstanceId(), 31u);
+    }
 }
 
 TEST(PanopticMapFrame, RaysFreeTheVoxelsOfTheReferenceWalkInEveryOctantAndAcrossBricks)

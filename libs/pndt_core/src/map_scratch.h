@@ -454,6 +454,8 @@ struct PanopticMap::Scratch
     };
     tsl::robin_map<uint64_t, PairCounts> pair_evidence;
     std::vector<std::pair<uint32_t, uint32_t>> fragment_merges;  ///< (fragment, into), applied after the frame
+    std::vector<std::pair<uint32_t, uint32_t>> moved_frames;     ///< renameInstances: (new id, frames seen)
+    std::vector<uint64_t> live_ids;                               ///< forgetDeadInstances: a bit per id in a record
 
     // histograms
     std::vector<uint32_t> new_label;      ///< per hit slot: new record in its task's list, or kNoRecord

@@ -182,7 +182,13 @@ class PanopticMap
         return spills_.find(surfaces_[v.surface].labels);
     }
     const SemanticSpills& semanticSpills() const { return spills_; }
-    /// Frames in which each instance was matched or created, sorted by id.
+    /// integrate() forgets the ids no record holds any more (their frames seen
+    /// and fragment evidence: such an id is never matched again) each time the
+    /// id counter passes a multiple of this, so that a map that runs for hours
+    /// keeps no entry for every id it ever made.
+    static constexpr uint32_t kDeadInstanceSweep = 4096;
+    /// Frames in which each instance was matched or created, sorted by id (see
+    /// kDeadInstanceSweep).
     std::vector<std::pair<uint32_t, uint32_t>> instanceFrames() const;
     /// Replaces them (after restore(); ids must be below nextInstanceId()).
     void restoreInstanceFrames(const std::vector<std::pair<uint32_t, uint32_t>>& frames);
@@ -254,6 +260,8 @@ class PanopticMap
     void classifyMapInstances();
     void collectFragmentEvidence();
     void mergeFragments(FrameStats& st);
+    /// Drops the frames seen and fragment evidence of ids no record holds any more.
+    void forgetDeadInstances();
     void splitMergedPredictions(const FramePixels& f, FrameStats& st);
     void updateHistograms(const FramePixels& f, FrameStats& st);
     void histogramTask(const FramePixels& f, int task);
