@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# Soak of pndt-live (doc/hardening.md): the live pipeline as on a robot, for MINUTES (default
+# 60) - the OpenNI2 virtual camera (libs/pndt_oni_virtual, loaded by the OpenNI2 runtime) at
+# 640x480 and 30 frames/s, poses streamed over TCP by pndt-pose-send at the camera's pace,
+# tests/seg's tiny panoptic network as the segmentation, short-term maps every 3 s.
+# `pndt_soak --watch` samples pndt-live's RSS, file descriptors and threads every 10 s, prints
+# the figures after warm-up and loads every map file written. Not run by CI.
+#   scripts/soak_live.sh [MINUTES] [BUILD_DIR]        (BUILD_DIR default build, must exist)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+MINUTES="${1:-60}"
+B="$(cd "${2:-build}" && pwd)"
+cmake --build "$B" -j"${JOBS:-2}" --target pndt-live pndt-pose-send pndt-virtual-camera pndt_soak \
+  pndt_oni_virtual_driver pndt_seg_test_models
+D="$PWD/out/soak/live"
+rm -rf "$D"
+mkdir -p "$D"
+RUN_SECONDS=$((MINUTES * 60))
+cat > "$D/camera.cfg" <<CFG
+width = 640
+height = 480
+fps = 30
+loop_frames = 120
+pose_seconds = $((RUN_SECONDS + 120))
+CFG
+"$B/bin/pndt-virtual-camera" --config "$D/camera.cfg" --write-poses "$D/poses.txt" > /dev/null
+cat > "$D/model.json" <<JSON
+{"format": "pndt-segmentation-model/1", "name": "tiny", "onnx": "$B/tests/seg/models/panoptic_tiny.onnx",
+ "kind": "panoptic", "input_size": [16, 12],
+ "inputs": [{"name": "rgb", "kind": "rgb", "scale": 0.003921568627451},
+            {"name": "depth", "kind": "depth", "mean": [2], "std": [10]}],
+ "outputs": {"semantic": "semantic", "center": "center", "offset": "offset"},
+ "classes": ["void", "wall", "chair", "table"],
+ "postprocess": {"center_threshold": 0.1, "nms_kernel": 3, "top_k": 8, "offset_order": "yx", "offset_scale": 2}}
+JSON
+PORT="${PORT:-$((20000 + RANDOM % 20000))}"
+PNDT_VIRTUAL_CAMERA="$D/camera.cfg" LD_LIBRARY_PATH="$B/lib/openni2-virtual" \
+  "$B/bin/pndt-live" --pose-tcp "$PORT" --pose-format tum --model "$D/model.json" --seconds "$RUN_SECONDS" \
+  --period 3 -o "$D/maps" > "$D/live.out" 2> "$D/live.err" &
+LIVE=$!
+"$B/bin/pndt-pose-send" "$D/poses.txt" --to "127.0.0.1:$PORT" > "$D/send.out" 2>&1 &
+SEND=$!
+STATUS=0
+"$B/bin/pndt_soak" --watch "$LIVE" --maps "$D/maps" --sample 10 | tee "$D/soak.log" || STATUS=$?
+LIVE_STATUS=0
+wait "$LIVE" || LIVE_STATUS=$?
+kill "$SEND" 2> /dev/null || true
+wait "$SEND" 2> /dev/null || true
+echo "pndt-live exit $LIVE_STATUS; its summary:"
+cat "$D/live.out"
+[ "$LIVE_STATUS" -eq 0 ] || { echo "pndt-live failed:"; tail -20 "$D/live.err"; exit 1; }
+exit "$STATUS"
