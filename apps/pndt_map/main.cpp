@@ -227,6 +227,7 @@ int main(int argc, char** argv)
                 ++no_pose;  // never mapped with a stale pose
                 return;
             }
+            track->forgetBefore(t - PoseTrack::kKeptSeconds);  // a long recording's poses stay few
             pairer.pushScan(scan, *T, done);
         };
         const auto placeWaiting = [&](bool all) {

@@ -84,6 +84,41 @@ TEST(PoseInterpolator, OutOfOrderOrDuplicateStampsThrowNamingTheIndex)
     EXPECT_INPUT_ERROR(PoseInterpolator({yawPose(std::nan(""), 0, {0, 0, 0})}), "pose 0", "non-finite");
 }
 
+TEST(PoseInterpolator, ForgetBeforeKeepsEveryAnswerFromThatTimeOn)
+{
+    // 5000 poses at 30 Hz, turning and moving: the full track and one that forgets.
+    PoseInterpolator all, kept;
+    const auto poseAt = [](int k) { return yawPose(100.0 + k / 30.0, 0.01 * k, {0.002 * k, std::sin(0.01 * k), 0}); };
+    for (int k = 0; k < 5000; ++k)
+    {
+        all.append(poseAt(k));
+        kept.append(poseAt(k));
+    }
+    // Fewer than 1024 poses to drop: nothing moves.
+    kept.forgetBefore(100.0 + 1000.5 / 30.0);
+    EXPECT_EQ(kept.size(), 5000u);
+    // Poses 0..2999 lie before pose 3000, the last one at or before t: they go.
+    const double t = 100.0 + 3000.5 / 30.0;
+    kept.forgetBefore(t);
+    EXPECT_EQ(kept.size(), 2000u);
+    EXPECT_EQ(kept.appended(), 5000u);
+    EXPECT_EQ(kept.startTime(), all.poses()[3000].t);
+    // From t on (between stamps, on them, to the end) the same answers, to the bit.
+    for (double q = t; q <= all.endTime(); q += 0.0123)
+    {
+        const auto a = all.at(q, 0.1), b = kept.at(q, 0.1);
+        ASSERT_TRUE(a.has_value()) << q;
+        ASSERT_TRUE(b.has_value()) << q;
+        EXPECT_EQ(a->matrix(), b->matrix()) << q;
+    }
+    EXPECT_EQ(kept.at(all.poses()[4000].t, 0.0)->matrix(), all.poses()[4000].T_world_sensor.matrix());
+    // Before the poses kept: no pose (a frame that far back is skipped).
+    EXPECT_FALSE(kept.at(all.poses()[2999].t, 0.1).has_value());
+    // Appending goes on, and errors count the forgotten poses.
+    kept.append(poseAt(5000));
+    EXPECT_INPUT_ERROR(kept.append(poseAt(4999)), "pose 5001", "out of order");
+}
+
 TEST(PoseInterpolator, InterpolatePoseHelper)
 {
     const auto a = yawPose(0, 0, {0, 0, 0}).T_world_sensor;

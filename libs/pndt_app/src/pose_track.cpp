@@ -65,7 +65,7 @@ bool PoseTrack::addRobotPose(const mrpt::obs::CObservationRobotPose& p)
     if (!interp_.empty() && sp.t <= interp_.endTime())
         throw std::runtime_error(fmt::format(
             "{}: robot pose '{}' #{} at t={:.6f} is not after the previous one (t={:.6f}): poses out of order",
-            source_, p.sensorLabel, interp_.size() + 1, sp.t, interp_.endTime()));
+            source_, p.sensorLabel, interp_.appended() + 1, sp.t, interp_.endTime()));
     interp_.append(sp);
     return true;
 }

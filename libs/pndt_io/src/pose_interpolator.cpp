@@ -17,17 +17,30 @@ PoseInterpolator::PoseInterpolator(std::vector<StampedPose> poses)
 
 void PoseInterpolator::append(const StampedPose& pose)
 {
-    const size_t i = poses_.size();
+    const size_t i = forgotten_ + poses_.size();
     const double t = pose.t;
     if (!std::isfinite(t)) throw InputError(fmt::format("PoseInterpolator: pose {} has a non-finite stamp", i));
-    if (i > 0 && !(t > poses_[i - 1].t))
+    if (!poses_.empty() && !(t > poses_.back().t))
         throw InputError(fmt::format(
             "PoseInterpolator: pose {} (t={:.9f}) is {} pose {} (t={:.9f}); stamps must be "
             "strictly increasing",
-            i, t, t == poses_[i - 1].t ? "a duplicate stamp of" : "out of order, before", i - 1, poses_[i - 1].t));
+            i, t, t == poses_.back().t ? "a duplicate stamp of" : "out of order, before", i - 1, poses_.back().t));
     poses_.push_back(pose);
     quats_.emplace_back(pose.T_world_sensor.rotation());
     quats_.back().normalize();
+}
+
+void PoseInterpolator::forgetBefore(double t)
+{
+    // Poses [0, drop) lie before the last stamp <= t: at() never brackets a time >= t with them.
+    const auto first_after = std::upper_bound(poses_.begin(), poses_.end(), t,
+                                              [](double v, const StampedPose& p) { return v < p.t; });
+    if (first_after == poses_.begin()) return;
+    const size_t drop = size_t(first_after - poses_.begin()) - 1;
+    if (drop < 1024 || drop < poses_.size() - drop) return;  // each pose moves O(1) times on average
+    poses_.erase(poses_.begin(), poses_.begin() + std::ptrdiff_t(drop));
+    quats_.erase(quats_.begin(), quats_.begin() + std::ptrdiff_t(drop));
+    forgotten_ += drop;
 }
 
 double PoseInterpolator::startTime() const

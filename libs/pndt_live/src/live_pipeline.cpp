@@ -284,6 +284,7 @@ void LivePipeline::mapItem(Item& it, std::vector<PairedFrame>& done, const std::
         ++stats_.no_pose_skipped;
         return;
     }
+    track_.forgetBefore(it.t - app::PoseTrack::kKeptSeconds);  // as pndt-map's replay of the recording
     // Each observation is emitted, paired and what it completes integrated before the next
     // one, as pndt-map does when it replays the recording: a hand-over (a map added to
     // maps.rawlog) then falls between the same inputs in both files. (Emitting the label

@@ -46,7 +46,13 @@ class PoseTrack
     /// Seconds added to every pose stamp (localiser clock -> camera clock, as pndt-live's
     /// --clock-offset): a pose stamped s is the pose at camera time s + offset.
     void setClockOffset(double seconds) { clock_offset_ = seconds; }
-    size_t size() const { return interp_.size(); }
+    /// How far back of the newest frame placed a frame may still find its pose: the mappers
+    /// let go of older poses (forgetBefore) so that a track fed for hours (pndt-live's
+    /// localiser, a long rawlog's robot poses) stays small. A frame further back is skipped.
+    static constexpr double kKeptSeconds = 60.0;
+    /// Lets go of the poses no frame at camera time >= t needs (PoseInterpolator::forgetBefore).
+    void forgetBefore(double t) { interp_.forgetBefore(t - clock_offset_); }
+    size_t size() const { return interp_.size(); }  ///< poses held
     bool empty() const { return interp_.empty(); }
     /// Time of the last pose on the camera clock (throws if empty): frames up to it have their
     /// final pose.

@@ -27,8 +27,15 @@ public:
     ///    (the frame must then be skipped, never mapped with a stale pose).
     std::optional<Pose> at(double t, double max_gap) const;
 
+    /// Lets go of the poses no query at time >= t needs (those before the last stamp <= t), so
+    /// that a track fed for hours (a live localiser) stays small; a query before t may then find
+    /// no pose. Amortised: the poses are dropped once they are at least 1024 and as many as the
+    /// poses kept.
+    void forgetBefore(double t);
+
     bool empty() const { return poses_.empty(); }
-    size_t size() const { return poses_.size(); }
+    size_t size() const { return poses_.size(); }  ///< poses held (not counting forgotten ones)
+    size_t appended() const { return forgotten_ + poses_.size(); }  ///< poses ever appended
     double startTime() const;  ///< throws if empty
     double endTime() const;    ///< throws if empty
     const std::vector<StampedPose>& poses() const { return poses_; }
@@ -36,6 +43,7 @@ public:
 private:
     std::vector<StampedPose> poses_;
     std::vector<Eigen::Quaterniond> quats_;
+    size_t forgotten_ = 0;  ///< poses dropped by forgetBefore (error messages count them)
 };
 
 /// SLERP/LERP between two poses, alpha in [0,1] (0 → a, 1 → b).
