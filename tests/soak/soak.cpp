@@ -43,16 +43,14 @@ struct Sample
 {
     double t = 0, rss_mb = 0;
     int fds = 0, threads = 0;
-    uint64_t frames = 0;
 };
 
 /// RSS, threads and open files of the process under `proc` (/proc/self or /proc/PID);
 /// nothing once it has exited (gone, or a zombie waiting for its parent).
-std::optional<Sample> sampleProcess(const fs::path& proc, double t, uint64_t frames)
+std::optional<Sample> sampleProcess(const fs::path& proc, double t)
 {
     Sample s;
     s.t = t;
-    s.frames = frames;
     std::ifstream f(proc / "status");
     if (!f) return std::nullopt;
     for (std::string line; std::getline(f, line);)
@@ -69,7 +67,7 @@ std::optional<Sample> sampleProcess(const fs::path& proc, double t, uint64_t fra
     return s;
 }
 
-Sample sampleSelf(double t, uint64_t frames) { return *sampleProcess("/proc/self", t, frames); }
+Sample sampleSelf(double t) { return *sampleProcess("/proc/self", t); }
 
 /// Least-squares slope of y over x.
 double slope(const std::vector<double>& x, const std::vector<double>& y)
@@ -87,10 +85,11 @@ double slope(const std::vector<double>& x, const std::vector<double>& y)
     return d > 0 ? (n * sxy - sx * sy) / d : 0.0;
 }
 
-void printSample(const Sample& s, uint64_t laps, const std::string& what)
+/// One line per sample: time, what the soak has done so far, then the process's figures.
+void printSample(const Sample& s, const std::string& progress)
 {
-    fmt::print("{:7.0f} s  lap {:4d}  frames {:7d}  {}  RSS {:7.1f} MB  fds {:3d}  threads {:2d}\n", s.t, laps,
-               s.frames, what, s.rss_mb, s.fds, s.threads);
+    fmt::print("{:7.0f} s  {}  RSS {:7.1f} MB  fds {:3d}  threads {:2d}\n", s.t, progress, s.rss_mb, s.fds,
+               s.threads);
     std::fflush(stdout);
 }
 
@@ -207,7 +206,7 @@ bool replay(const Options& opt, std::vector<Sample>& samples)
     fs::create_directories(opt.out);
     const auto t0 = std::chrono::steady_clock::now();
     const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
-    samples.push_back(sampleSelf(0, 0));
+    samples.push_back(sampleSelf(0));
     uint64_t frames = 0, laps = 0;
     double offset = 0, lap_length = 0;
     std::vector<PairedFrame> done;
@@ -244,9 +243,10 @@ bool replay(const Options& opt, std::vector<Sample>& samples)
             done.clear();
             if (elapsed() >= samples.back().t + opt.sample_s)
             {
-                samples.push_back(sampleSelf(elapsed(), frames));
-                printSample(samples.back(), laps,
-                            one ? one->figures() : fmt::format("maps {:5d}", short_term->index().size()));
+                samples.push_back(sampleSelf(elapsed()));
+                printSample(samples.back(),
+                            fmt::format("lap {:4d}  frames {:7d}  {}", laps, frames,
+                                        one ? one->figures() : fmt::format("maps {:5d}", short_term->index().size())));
             }
             if (elapsed() >= opt.minutes * 60) break;
         }
@@ -257,7 +257,7 @@ bool replay(const Options& opt, std::vector<Sample>& samples)
     }
     if (short_term) short_term->finish();
     if (one) one->map->flushPending();
-    samples.push_back(sampleSelf(elapsed(), frames));
+    samples.push_back(sampleSelf(elapsed()));
     const double minutes = samples.back().t / 60, rate = double(frames) / samples.back().t;
     if (one)
     {
@@ -272,6 +272,23 @@ bool replay(const Options& opt, std::vector<Sample>& samples)
     return loadEach(files);
 }
 
+/// The map files (*.pndt.gz) in `dir`, sorted; none when there is no such folder (yet).
+std::vector<fs::path> mapFiles(const std::string& dir)
+{
+    std::vector<fs::path> files;
+    if (dir.empty()) return files;
+    const std::string suffix = ".pndt.gz";
+    std::error_code ec;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+    {
+        const std::string name = it->path().filename().string();
+        if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
+            files.push_back(it->path());
+    }
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
 /// Samples process `pid` until it exits; then loads the map files in opt.maps_dir.
 bool watch(const Options& opt, std::vector<Sample>& samples)
 {
@@ -280,10 +297,10 @@ bool watch(const Options& opt, std::vector<Sample>& samples)
     const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
     for (;;)
     {
-        const std::optional<Sample> s = sampleProcess(proc, elapsed(), 0);
+        const std::optional<Sample> s = sampleProcess(proc, elapsed());
         if (!s) break;
         samples.push_back(*s);
-        printSample(*s, 0, fmt::format("pid {}", opt.watch_pid));
+        printSample(*s, fmt::format("pid {}  map files {:5d}", opt.watch_pid, mapFiles(opt.maps_dir).size()));
         const double next = samples.front().t + opt.sample_s * double(samples.size());
         while (elapsed() < next && fs::exists(proc / "status"))
             std::this_thread::sleep_for(std::chrono::milliseconds(200));
@@ -295,15 +312,7 @@ bool watch(const Options& opt, std::vector<Sample>& samples)
     }
     fmt::print("\nsoak: process {} watched for {:.1f} min\n", opt.watch_pid, samples.back().t / 60);
     if (opt.maps_dir.empty()) return true;
-    std::vector<fs::path> files;
-    const std::string suffix = ".pndt.gz";
-    for (const auto& e : fs::directory_iterator(opt.maps_dir))
-    {
-        const std::string name = e.path().filename().string();
-        if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
-            files.push_back(e.path());
-    }
-    std::sort(files.begin(), files.end());
+    const std::vector<fs::path> files = mapFiles(opt.maps_dir);
     fmt::print("{} map files in {}\n", files.size(), opt.maps_dir);
     return !files.empty() && loadEach(files);
 }

@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <iterator>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
 
 namespace pndt
