@@ -25,6 +25,7 @@
 
 #include "bench_frames.h"
 #include "bonxai_run.h"
+#include "carrier_run.h"
 
 using namespace pndt;
 using Clock = std::chrono::steady_clock;
@@ -435,7 +436,7 @@ int main(int argc, char** argv)
     std::vector<std::string> resolutions = {"640x480", "1024x768"};
     std::vector<int> threads = {1, 0};
     bool no_octomap_default = false, no_mrpt = false, no_bonxai = false, only_panoptic = false, ablations = false,
-         pin = false;
+         pin = false, carriers = false;
     std::string markdown, stat = "median", recording;
     app.add_option("-n,--frames", frames, "frames per run")->capture_default_str();
     app.add_option("--repeat", repeat, "runs per measurement (the thread counts' and OctoMap's runs alternate; --stat picks the one reported)")->capture_default_str();
@@ -467,8 +468,22 @@ int main(int argc, char** argv)
     app.add_flag("--pin", pin,
                  "pin this thread to CPU 0 and PanopticNDT's workers to CPUs 1.. (for schedulers that keep a "
                  "process on one CPU)");
+    app.add_flag("--carriers", carriers,
+                 "only time what pndt-map and pndt-live do around the map update: range scan to depth, the label "
+                 "images' decode and encode, at each --resolution (--repeat runs, the fastest reported)");
     CLI11_PARSE(app, argc, argv);
     repeat = std::max(1, repeat);
+    if (carriers)
+    {
+        for (const std::string& res : resolutions)
+        {
+            int w = 0, h = 0;
+            if (std::sscanf(res.c_str(), "%dx%d", &w, &h) != 2 || w <= 0 || h <= 0)
+                return fmt::print(stderr, "bad resolution {}\n", res), 1;
+            bench::runCarriers(w, h, std::max(repeat, 50));
+        }
+        return 0;
+    }
     g_stat = stat == "frame-min" ? Stat::FrameMin : stat == "min" ? Stat::Min : Stat::Median;
 #ifdef __linux__
     if (pin)

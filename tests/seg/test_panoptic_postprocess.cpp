@@ -302,6 +302,57 @@ TEST(ResizeLabels, DoublingRepeatsEachPixelTwiceEachWay)
     EXPECT_EQ(big.semantic_score.at(1, 0), 0.5f);
 }
 
+TEST(ResizeLabels, EveryPixelTakesTheSourcePixelUnderItsCentre)
+{
+    // Up, down, odd ratios and a frame that held larger images: target (x, y) takes source
+    // (floor((x + 0.5) W / width), floor((y + 0.5) H / height)), computed here in double.
+    const int sizes[][4] = {{160, 120, 640, 480}, {7, 5, 13, 11}, {20, 10, 3, 4}, {3, 3, 640, 1}, {64, 48, 64, 48}};
+    PanopticFrame big;
+    big.semantic = Image<uint16_t>(1000, 1000, 9);
+    for (const auto& sz : sizes)
+    {
+        const int W = sz[0], H = sz[1], width = sz[2], height = sz[3];
+        PanopticFrame small;
+        small.semantic = Image<uint16_t>(W, H);
+        small.semantic_score = Image<float>(W, H);
+        small.instance = Image<uint32_t>(W, H);
+        small.panoptic_score = Image<float>(W, H);
+        for (int i = 0; i < W * H; ++i)
+        {
+            small.semantic.data[size_t(i)] = uint16_t(i % 65000);
+            small.semantic_score.data[size_t(i)] = float(i) * 0.5f;
+            small.instance.data[size_t(i)] = uint32_t(i) + 70000;
+            small.panoptic_score.data[size_t(i)] = float(i) * 0.25f;
+        }
+        resizeLabels(small, width, height, big);
+        ASSERT_EQ(big.semantic.width, width);
+        ASSERT_EQ(big.semantic.height, height);
+        ASSERT_EQ(big.panoptic_score.size(), size_t(width * height));
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x)
+            {
+                const int sy = std::min(H - 1, int((y + 0.5) * H / height));
+                const int sx = std::min(W - 1, int((x + 0.5) * W / width));
+                const int i = sy * W + sx;
+                ASSERT_EQ(big.semantic.at(y, x), uint16_t(i % 65000)) << W << "x" << H << " -> " << x << "," << y;
+                ASSERT_EQ(big.semantic_score.at(y, x), float(i) * 0.5f);
+                ASSERT_EQ(big.instance.at(y, x), uint32_t(i) + 70000);
+                ASSERT_EQ(big.panoptic_score.at(y, x), float(i) * 0.25f);
+            }
+    }
+    // Labels without instances give none; labels of mismatched sizes are an error, not a read
+    // past the end.
+    PanopticFrame semantic_only;
+    semantic_only.semantic = Image<uint16_t>(2, 2, 1);
+    semantic_only.semantic_score = Image<float>(2, 2, 0.5f);
+    resizeLabels(semantic_only, 4, 4, big);
+    EXPECT_TRUE(big.instance.empty());
+    EXPECT_EQ(big.semantic.data, std::vector<uint16_t>(16, 1));
+    semantic_only.semantic_score = Image<float>(1, 2, 0.5f);
+    EXPECT_THROW(resizeLabels(semantic_only, 4, 4, big), InputError);
+    EXPECT_THROW(resizeLabels(PanopticFrame{}, 4, 4, big), InputError);
+}
+
 // ---- The fast paths: skipped classes in S^L, the sparse NMS, the centre grid of the grouping. ----
 
 namespace

@@ -210,7 +210,7 @@ void LivePipeline::segmentationLoop()
             in.depth = &frame.depth;
             if (scan.hasIntensityImage)
             {
-                rgb.resize(int(scan.intensityImage.getWidth()), int(scan.intensityImage.getHeight()));
+                rgb.reshape(int(scan.intensityImage.getWidth()), int(scan.intensityImage.getHeight()));
                 for (int r = 0; r < rgb.height; ++r)
                 {
                     const uint8_t* row = scan.intensityImage.ptrLine<uint8_t>(r);

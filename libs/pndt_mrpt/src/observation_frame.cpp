@@ -61,20 +61,25 @@ void depthFrameFrom(const mrpt::obs::CObservation3DRangeScan& obs, PanopticFrame
     const int H = K.height, W = K.width;
     out.K = K;
     out.source = who;
-    out.depth.resize(W, H, 0.f);
+    out.depth.reshape(W, H);  // every pixel is written below
     const float units = obs.rangeUnits;
+    const uint16_t* first = &obs.rangeImage(0, 0);
+    const size_t stride = H > 1 ? size_t(&obs.rangeImage(1, 0) - first) : size_t(W);
     for (int r = 0; r < H; ++r)
+    {
+        const uint16_t* in = first + size_t(r) * stride;
+        float* row = out.depth.data.data() + size_t(r) * size_t(W);
+        for (int c = 0; c < W; ++c) row[c] = float(in[c]) * units;
+        if (obs.range_is_depth) continue;
+        // Euclidean range along the pixel's ray -> depth along the optical axis.
+        const double y = (r - K.cy) / K.fy;
         for (int c = 0; c < W; ++c)
-        {
-            float d = float(obs.rangeImage(r, c)) * units;
-            if (!obs.range_is_depth && d > 0)
+            if (row[c] > 0)
             {
-                // Euclidean range along the pixel's ray -> depth along the optical axis.
-                const double x = (c - K.cx) / K.fx, y = (r - K.cy) / K.fy;
-                d = float(d / std::sqrt(1.0 + x * x + y * y));
+                const double x = (c - K.cx) / K.fx;
+                row[c] = float(row[c] / std::sqrt(1.0 + x * x + y * y));
             }
-            out.depth.at(r, c) = d;
-        }
+    }
     out.semantic = {};
     out.semantic_score = {};
     out.instance = {};
@@ -83,63 +88,130 @@ void depthFrameFrom(const mrpt::obs::CObservation3DRangeScan& obs, PanopticFrame
 
 namespace
 {
-void decodeIdScore(const mrpt::obs::CObservationImage& obs, int W, int H, Image<uint32_t>& ids, Image<float>& scores)
+/// The checks of a label image shared by both decoders (InputError naming the observation).
+const mrpt::img::CImage& checkedLabelImage(const mrpt::obs::CObservationImage& obs, int W, int H)
 {
-    const std::string who = describeObservation(obs);
     const mrpt::img::CImage& img = obs.image;
+    const std::string who = describeObservation(obs);
     if (img.isEmpty()) throw InputError(who + ": empty label image");
     if (img.channelCount() != 1 || img.getPixelDepth() != mrpt::img::PixelDepth::D32F)
         throw InputError(who + ": label image must be single-channel float32 (id + score)");
     if (int(img.getWidth()) != W || int(img.getHeight()) != H)
         throw InputError(fmt::format("{}: label image is {}x{} but the depth image is {}x{}", who, img.getWidth(),
                                      img.getHeight(), W, H));
-    ids.resize(W, H, 0);
-    scores.resize(W, H, 0.f);
-    for (int r = 0; r < H; ++r)
+    return img;
+}
+
+/// One row of "id + score" values into ids below `limit` (a power of two <= 2^32) and
+/// scores: id = floor(v), score = v - id, as the float operations of design §5 give
+/// them. Returns false when a value is not finite, negative or >= limit (those pixels'
+/// outputs are then meaningless: the caller reports the first bad one). No branch per
+/// pixel, so the compiler vectorises it: floor is the truncation of a value >= 0,
+/// taken through int32 (values >= 2^31 are integers and shifted down by 2^31 first).
+template <typename Id>
+bool decodeRow(const float* in, int n, float limit, Id* ids, float* scores)
+{
+    uint32_t bad = 0;
+    for (int c = 0; c < n; ++c)
     {
-        const float* row = img.ptrLine<float>(r);  // at<float>() is wrong for 32F in MRPT 2.5
-        for (int c = 0; c < W; ++c)
-        {
-            const float v = row[c];
-            // (ids are 32-bit: a larger value would overflow the conversion below)
-            if (!std::isfinite(v) || v < 0.f || v >= 4294967296.f)
-                throw InputError(fmt::format("{}: invalid id+score value {} at pixel (row {}, col {})", who, v, r, c));
-            const float id = std::floor(v);
-            ids.at(r, c) = uint32_t(id);
-            scores.at(r, c) = v - id;
-        }
+        const float v = in[c];
+        const bool ok = (v >= 0.f) & (v < limit);  // false for NaN
+        bad |= uint32_t(!ok);
+        const float safe = ok ? v : 0.f;
+        const bool high = safe >= 2147483648.f;
+        const float shift = high ? 2147483648.f : 0.f;
+        const int32_t low = int32_t(safe - shift);
+        ids[c] = Id(uint32_t(low) + (high ? 0x80000000u : 0u));
+        scores[c] = safe - (float(low) + shift);
     }
+    return bad == 0;
+}
+
+/// Throws an InputError naming the first invalid value (not finite, negative or >= 2^32:
+/// ids are 32-bit) of a label image and its pixel; returns when there is none.
+void throwFirstInvalid(const mrpt::obs::CObservationImage& obs)
+{
+    const mrpt::img::CImage& img = obs.image;
+    for (int r = 0; r < int(img.getHeight()); ++r)
+    {
+        const float* row = img.ptrLine<float>(r);
+        for (int c = 0; c < int(img.getWidth()); ++c)
+            if (!(row[c] >= 0.f && row[c] < 4294967296.f))
+                throw InputError(fmt::format("{}: invalid id+score value {} at pixel (row {}, col {})",
+                                             describeObservation(obs), row[c], r, c));
+    }
+}
+
+/// The first class id of a semantic image that does not fit 16 bits.
+[[noreturn]] void throwFirstWideClass(const mrpt::obs::CObservationImage& obs)
+{
+    const mrpt::img::CImage& img = obs.image;
+    for (int r = 0; r < int(img.getHeight()); ++r)
+    {
+        const float* row = img.ptrLine<float>(r);
+        for (int c = 0; c < int(img.getWidth()); ++c)
+            if (row[c] >= 65536.f)
+                throw InputError(fmt::format("{}: class id {} does not fit 16 bits", describeObservation(obs),
+                                             uint32_t(row[c])));
+    }
+    throw InputError(describeObservation(obs) + ": class id does not fit 16 bits");  // not reached
+}
+
+/// Decodes a whole label image; false when some value is out of [0, limit).
+template <typename Id>
+bool decodeImage(const mrpt::img::CImage& img, float limit, Image<Id>& ids, Image<float>& scores)
+{
+    const int W = int(img.getWidth()), H = int(img.getHeight());
+    ids.reshape(W, H);  // every pixel is written
+    scores.reshape(W, H);
+    bool ok = true;
+    for (int r = 0; r < H; ++r)  // ptrLine: at<float>() is wrong for 32F in MRPT 2.5
+        ok &= decodeRow(img.ptrLine<float>(r), W, limit, ids.data.data() + size_t(r) * size_t(W),
+                        scores.data.data() + size_t(r) * size_t(W));
+    return ok;
+}
+
+/// ids + clamped scores (0 where there are none) as "id + score" floats, one row.
+template <typename Id>
+void encodeRow(const Id* ids, const float* scores, int n, float* out)
+{
+    if (!scores)
+        for (int c = 0; c < n; ++c) out[c] = float(ids[c]);
+    else
+        for (int c = 0; c < n; ++c) out[c] = float(ids[c]) + std::clamp(scores[c], 0.f, 0.999f);
+}
+
+template <typename Id>
+void encodeImage(const Image<Id>& ids, const Image<float>& scores, mrpt::img::CImage& out)
+{
+    out.resize(ids.width, ids.height, mrpt::img::CH_GRAY, mrpt::img::PixelDepth::D32F);
+    const size_t W = size_t(ids.width);
+    for (int r = 0; r < ids.height; ++r)
+        encodeRow(ids.data.data() + r * W, scores.empty() ? nullptr : scores.data.data() + r * W, ids.width,
+                  out.ptrLine<float>(r));
 }
 }  // namespace
 
 void attachPanopticLabels(const mrpt::obs::CObservationImage& semantic, const mrpt::obs::CObservationImage& instance,
                           PanopticFrame& f)
 {
-    Image<uint32_t> sem_ids;
-    decodeIdScore(semantic, f.depth.width, f.depth.height, sem_ids, f.semantic_score);
-    decodeIdScore(instance, f.depth.width, f.depth.height, f.instance, f.panoptic_score);
-    f.semantic.resize(f.depth.width, f.depth.height, 0);
-    for (size_t i = 0; i < sem_ids.data.size(); ++i)
+    const int W = f.depth.width, H = f.depth.height;
+    // Class ids are 16-bit, so a semantic value of 65536 or more fails the fast decode; the
+    // slow scans then report the first problem in the order it always was: an invalid
+    // semantic value, an invalid instance value, a class id too wide.
+    const bool sem_ok = decodeImage(checkedLabelImage(semantic, W, H), 65536.f, f.semantic, f.semantic_score);
+    if (!sem_ok) throwFirstInvalid(semantic);  // returns when the classes are only too wide
+    if (!decodeImage(checkedLabelImage(instance, W, H), 4294967296.f, f.instance, f.panoptic_score))
     {
-        if (sem_ids.data[i] > 0xFFFF)
-            throw InputError(fmt::format("{}: class id {} does not fit 16 bits", describeObservation(semantic),
-                                         sem_ids.data[i]));
-        f.semantic.data[i] = uint16_t(sem_ids.data[i]);
+        throwFirstInvalid(instance);
+        throw InputError(describeObservation(instance) + ": invalid id+score value");  // not reached
     }
+    if (!sem_ok) throwFirstWideClass(semantic);
 }
 
 void encodeIdScoreImage(const Image<uint32_t>& ids, const Image<float>& scores, mrpt::img::CImage& out)
 {
-    out.resize(ids.width, ids.height, mrpt::img::CH_GRAY, mrpt::img::PixelDepth::D32F);
-    for (int r = 0; r < ids.height; ++r)
-    {
-        float* row = out.ptrLine<float>(r);
-        for (int c = 0; c < ids.width; ++c)
-        {
-            const float s = scores.empty() ? 0.f : std::clamp(scores.at(r, c), 0.f, 0.999f);
-            row[c] = float(ids.at(r, c)) + s;
-        }
-    }
+    encodeImage(ids, scores, out);
 }
 
 void rangeScanFrom(const PanopticFrame& f, mrpt::obs::CObservation3DRangeScan& o)
@@ -172,15 +244,20 @@ void rangeScanFrom(const PanopticFrame& f, mrpt::obs::CObservation3DRangeScan& o
 void labelImagesFrom(const PanopticFrame& f, const std::string& rgbd_label, mrpt::Clock::time_point stamp,
                      mrpt::obs::CObservationImage& sem, mrpt::obs::CObservationImage& inst)
 {
-    Image<uint32_t> ids(f.semantic.width, f.semantic.height);
-    for (size_t i = 0; i < ids.data.size(); ++i) ids.data[i] = f.semantic.data[i];
-    encodeIdScoreImage(ids, f.semantic_score, sem.image);
+    encodeImage(f.semantic, f.semantic_score, sem.image);
     sem.sensorLabel = rgbd_label + "_PANOPTIC_SEMANTIC";
     sem.timestamp = stamp;
     if (f.hasInstances())
         encodeIdScoreImage(f.instance, f.panoptic_score, inst.image);
     else
-        encodeIdScoreImage(Image<uint32_t>(f.depth.width, f.depth.height, 0), {}, inst.image);
+    {
+        inst.image.resize(f.depth.width, f.depth.height, mrpt::img::CH_GRAY, mrpt::img::PixelDepth::D32F);
+        for (int r = 0; r < f.depth.height; ++r)
+        {
+            float* row = inst.image.ptrLine<float>(r);
+            std::fill(row, row + f.depth.width, 0.f);  // no instance, score 0
+        }
+    }
     inst.sensorLabel = rgbd_label + "_PANOPTIC_INSTANCE";
     inst.timestamp = stamp;
     for (auto* o : {&sem, &inst})

@@ -1009,38 +1009,65 @@ void PanopticPostprocessor::groupBlock(const PanopticTensors& t, size_t b0, size
     block_has_instance_[b0 / kBlock] = any != 0;
 }
 
+namespace
+{
+/// Nearest-neighbour resampling of one image: target pixel (x, y) takes source pixel
+/// (floor((x + 0.5) W / width), floor((y + 0.5) H / height)), clamped. The source column
+/// is stepped with integers (the same floor as the division); a target row whose source
+/// row is the previous one's is a copy of it (upsampling: most rows).
+template <typename T>
+void resampleNearest(const Image<T>& in, int width, int height, Image<T>& out)
+{
+    const int W = in.width, H = in.height;
+    out.reshape(width, height);  // every pixel is written
+    int previous_sy = -1;
+    for (int y = 0; y < height; ++y)
+    {
+        T* row = out.data.data() + size_t(y) * size_t(width);
+        const int sy = std::min(H - 1, int((int64_t(2 * y + 1) * H) / (2 * int64_t(height))));
+        if (sy == previous_sy)
+        {
+            std::copy(row - width, row, row);
+            continue;
+        }
+        previous_sy = sy;
+        const T* src = in.data.data() + size_t(sy) * size_t(W);
+        // sx = floor((2x + 1) W / (2 width)): numerator and remainder carried along.
+        const int64_t den = 2 * int64_t(width);
+        int64_t sx = int64_t(W) / den, rem = int64_t(W) % den;
+        const int64_t step = 2 * int64_t(W), step_q = step / den, step_r = step % den;
+        for (int x = 0; x < width; ++x)
+        {
+            row[x] = src[std::min<int64_t>(W - 1, sx)];
+            sx += step_q;
+            rem += step_r;
+            if (rem >= den)
+            {
+                rem -= den;
+                ++sx;
+            }
+        }
+    }
+}
+}  // namespace
+
 void resizeLabels(const PanopticFrame& in, int width, int height, PanopticFrame& out)
 {
     if (width <= 0 || height <= 0) throw InputError(fmt::format("resizeLabels: bad size {}x{}", width, height));
-    const int W = in.semantic.width, H = in.semantic.height;
-    const bool instances = in.hasInstances();
-    out.semantic.resize(width, height);
-    out.semantic_score.resize(width, height);
-    if (instances)
+    if (in.semantic.empty() || in.semantic_score.size() != in.semantic.size() ||
+        (in.hasInstances() && (in.instance.size() != in.semantic.size() || in.panoptic_score.size() != in.semantic.size())))
+        throw InputError(fmt::format("resizeLabels: the labels to resize are empty or of different sizes"));
+    resampleNearest(in.semantic, width, height, out.semantic);
+    resampleNearest(in.semantic_score, width, height, out.semantic_score);
+    if (in.hasInstances())
     {
-        out.instance.resize(width, height);
-        out.panoptic_score.resize(width, height);
+        resampleNearest(in.instance, width, height, out.instance);
+        resampleNearest(in.panoptic_score, width, height, out.panoptic_score);
     }
     else
     {
         out.instance = {};
         out.panoptic_score = {};
-    }
-    // Source pixel of a target pixel centre: floor((x + 0.5) · W / width).
-    for (int y = 0; y < height; ++y)
-    {
-        const int sy = std::min(H - 1, int((y + 0.5) * H / height));
-        for (int x = 0; x < width; ++x)
-        {
-            const int sx = std::min(W - 1, int((x + 0.5) * W / width));
-            out.semantic.at(y, x) = in.semantic.at(sy, sx);
-            out.semantic_score.at(y, x) = in.semantic_score.at(sy, sx);
-            if (instances)
-            {
-                out.instance.at(y, x) = in.instance.at(sy, sx);
-                out.panoptic_score.at(y, x) = in.panoptic_score.at(sy, sx);
-            }
-        }
     }
 }
 

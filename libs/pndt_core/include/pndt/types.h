@@ -27,6 +27,14 @@ struct Image
         height = h;
         data.assign(static_cast<size_t>(w) * static_cast<size_t>(h), fill);
     }
+    /// Resizes without filling, for outputs that write every pixel: the pixels kept
+    /// hold stale values (new ones zero); keeps the allocation when it is large enough.
+    void reshape(int w, int h)
+    {
+        width = w;
+        height = h;
+        data.resize(static_cast<size_t>(w) * static_cast<size_t>(h));
+    }
     bool empty() const { return data.empty(); }
     size_t size() const { return data.size(); }
     T& at(int row, int col) { return data[static_cast<size_t>(row) * width + col]; }
