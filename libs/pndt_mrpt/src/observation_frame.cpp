@@ -196,17 +196,29 @@ void attachPanopticLabels(const mrpt::obs::CObservationImage& semantic, const mr
                           PanopticFrame& f)
 {
     const int W = f.depth.width, H = f.depth.height;
-    // Class ids are 16-bit, so a semantic value of 65536 or more fails the fast decode; the
-    // slow scans then report the first problem in the order it always was: an invalid
-    // semantic value, an invalid instance value, a class id too wide.
-    const bool sem_ok = decodeImage(checkedLabelImage(semantic, W, H), 65536.f, f.semantic, f.semantic_score);
-    if (!sem_ok) throwFirstInvalid(semantic);  // returns when the classes are only too wide
-    if (!decodeImage(checkedLabelImage(instance, W, H), 4294967296.f, f.instance, f.panoptic_score))
+    try
     {
-        throwFirstInvalid(instance);
-        throw InputError(describeObservation(instance) + ": invalid id+score value");  // not reached
+        // Class ids are 16-bit, so a semantic value of 65536 or more fails the fast decode; the
+        // slow scans then report the first problem in the order it always was: an invalid
+        // semantic value, an invalid instance value, a class id too wide.
+        const bool sem_ok = decodeImage(checkedLabelImage(semantic, W, H), 65536.f, f.semantic, f.semantic_score);
+        if (!sem_ok) throwFirstInvalid(semantic);  // returns when the classes are only too wide
+        if (!decodeImage(checkedLabelImage(instance, W, H), 4294967296.f, f.instance, f.panoptic_score))
+        {
+            throwFirstInvalid(instance);
+            throw InputError(describeObservation(instance) + ": invalid id+score value");  // not reached
+        }
+        if (!sem_ok) throwFirstWideClass(semantic);
     }
-    if (!sem_ok) throwFirstWideClass(semantic);
+    catch (...)
+    {
+        // No half-decoded labels: a caller that goes on maps the frame geometry-only.
+        f.semantic = {};
+        f.semantic_score = {};
+        f.instance = {};
+        f.panoptic_score = {};
+        throw;
+    }
 }
 
 void encodeIdScoreImage(const Image<uint32_t>& ids, const Image<float>& scores, mrpt::img::CImage& out)

@@ -27,7 +27,7 @@ FrameView frameViewOf(const mrpt::obs::CObservation3DRangeScan& obs, std::string
 /// Decodes the two float32 "id + score" images of design §5 into the frame's
 /// label images. Throws InputError naming the observation when an image is not
 /// single-channel float, differs in size from the depth, or holds negative or
-/// non-finite values.
+/// non-finite values; the frame then holds no labels.
 void attachPanopticLabels(const mrpt::obs::CObservationImage& semantic, const mrpt::obs::CObservationImage& instance,
                           PanopticFrame& frame);
 
