@@ -425,6 +425,13 @@ struct Summary
     size_t bonxai_cells = 0;
     double bonxai_bytes = 0;
 };
+
+/// "WxH" with both positive.
+bool parseResolution(const std::string& text, int& w, int& h)
+{
+    return std::sscanf(text.c_str(), "%dx%d", &w, &h) == 2 && w > 0 && h > 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv)
@@ -478,8 +485,7 @@ int main(int argc, char** argv)
         for (const std::string& res : resolutions)
         {
             int w = 0, h = 0;
-            if (std::sscanf(res.c_str(), "%dx%d", &w, &h) != 2 || w <= 0 || h <= 0)
-                return fmt::print(stderr, "bad resolution {}\n", res), 1;
+            if (!parseResolution(res, w, h)) return fmt::print(stderr, "bad resolution {}\n", res), 1;
             bench::runCarriers(w, h, std::max(repeat, 50));
         }
         return 0;
@@ -529,8 +535,7 @@ int main(int argc, char** argv)
         }
         else
         {
-            if (std::sscanf(res.c_str(), "%dx%d", &w, &h) != 2)
-                return fmt::print(stderr, "bad resolution {}\n", res), 1;
+            if (!parseResolution(res, w, h)) return fmt::print(stderr, "bad resolution {}\n", res), 1;
             max_range = w >= 1024 ? 20.0 : 10.0;
             b = bench::makeRoomFrames(frames, w, h, max_range, label_noise);
         }

@@ -260,7 +260,7 @@ void labelImagesFrom(const PanopticFrame& f, const std::string& rgbd_label, mrpt
     sem.sensorLabel = rgbd_label + "_PANOPTIC_SEMANTIC";
     sem.timestamp = stamp;
     if (f.hasInstances())
-        encodeIdScoreImage(f.instance, f.panoptic_score, inst.image);
+        encodeImage(f.instance, f.panoptic_score, inst.image);
     else
     {
         inst.image.resize(f.depth.width, f.depth.height, mrpt::img::CH_GRAY, mrpt::img::PixelDepth::D32F);
