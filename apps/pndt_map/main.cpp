@@ -210,6 +210,7 @@ int main(int argc, char** argv)
                                maps.index().back().file, settings.short_term.max_voxels);
                 ++mapped;
                 labelled += p.labelled;
+                if (last) pairer.recycle(std::move(*last));  // its images take the next scan
                 last = std::move(p);
             }
             done.clear();

@@ -317,6 +317,7 @@ void LivePipeline::mappingLoop()
                                                       p.T_world_cam, t);
             maps_.integrate(p.frame, p.T_world_cam, t);
             ++stats_.mapped;
+            if (last_) pairer_.recycle(std::move(*last_));  // its images take the next scan
             last_ = std::move(p);
         }
         done.clear();

@@ -83,6 +83,7 @@ void PanopticNDTMap::integratePaired()
         integrate(p.frame, p.T_world_cam);
         ++(p.labelled ? stats_.frames_with_labels : stats_.frames_geometry_only);
     }
+    if (!paired_.empty()) pairer_.recycle(std::move(paired_.back()));  // its images take the next scan
     paired_.clear();
     stats_.label_images_dropped = pairer_.labelImagesDropped();
 }

@@ -80,10 +80,11 @@ void depthFrameFrom(const mrpt::obs::CObservation3DRangeScan& obs, PanopticFrame
                 row[c] = float(row[c] / std::sqrt(1.0 + x * x + y * y));
             }
     }
-    out.semantic = {};
-    out.semantic_score = {};
-    out.instance = {};
-    out.panoptic_score = {};
+    // No labels yet; a reused frame keeps the allocations for the next labels.
+    out.semantic.reshape(0, 0);
+    out.semantic_score.reshape(0, 0);
+    out.instance.reshape(0, 0);
+    out.panoptic_score.reshape(0, 0);
 }
 
 namespace

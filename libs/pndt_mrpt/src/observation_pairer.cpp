@@ -12,6 +12,7 @@ namespace pndt
 void ObservationPairer::clear()
 {
     pending_.reset();
+    spare_.reset();
     labels_.clear();
     dropped_ = 0;
 }
@@ -33,12 +34,19 @@ bool ObservationPairer::pushScan(const CObservation3DRangeScan& scan, const Pose
 {
     if (!scan.hasRangeImage) return false;
     flush(done);  // the previous frame's labels did not come: geometry only
-    PairedFrame p;
-    depthFrameFrom(scan, p.frame);
+    if (spare_)
+    {
+        pending_ = std::move(spare_);
+        spare_.reset();
+    }
+    else
+        pending_.emplace();
+    PairedFrame& p = *pending_;
+    depthFrameFrom(scan, p.frame);  // every field of the frame is set anew
     p.T_world_cam = T_world_cam;
     p.stamp = scan.timestamp;
     p.label = scan.sensorLabel;
-    pending_ = std::move(p);
+    p.labelled = false;
     tryComplete(done);
     return true;
 }

@@ -46,6 +46,24 @@ class ObservationPairer
    public:
     InsertionOptions options;
 
+    ObservationPairer() = default;
+    /// A copy pairs as the original does; it does not take the spare frame (megabytes).
+    ObservationPairer(const ObservationPairer& o)
+        : options(o.options), pending_(o.pending_), labels_(o.labels_), dropped_(o.dropped_)
+    {
+    }
+    ObservationPairer& operator=(const ObservationPairer& o)
+    {
+        options = o.options;
+        pending_ = o.pending_;
+        labels_ = o.labels_;
+        dropped_ = o.dropped_;
+        spare_.reset();
+        return *this;
+    }
+    ObservationPairer(ObservationPairer&&) = default;
+    ObservationPairer& operator=(ObservationPairer&&) = default;
+
     /// Feeds one observation; frames it completes are appended to `done` (a
     /// geometry-only frame whose labels never came, and/or a labelled frame).
     /// `robotPose` is used for range scans only. Returns false for observations
@@ -58,6 +76,9 @@ class ObservationPairer
                   std::vector<PairedFrame>& done);
     /// Releases the depth frame still waiting for labels, geometry only.
     void flush(std::vector<PairedFrame>& done);
+    /// Hands back a frame the caller is done with: the next scan is converted into its
+    /// images (no allocation, no page faults per frame on a long run). One is kept.
+    void recycle(PairedFrame&& used) { spare_ = std::move(used); }
 
     bool hasPending() const { return pending_.has_value(); }
     uint64_t labelImagesDropped() const { return dropped_; }
@@ -78,6 +99,7 @@ class ObservationPairer
     std::optional<PairedFrame> pending_;
     std::deque<BufferedLabel> labels_;
     uint64_t dropped_ = 0;
+    std::optional<PairedFrame> spare_;  ///< see recycle(); not copied
 };
 
 }  // namespace pndt
