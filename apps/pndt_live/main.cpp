@@ -24,6 +24,7 @@
 
 #include "mapper_settings.h"
 #include "refine_cli.h"
+#include "short_term_cli.h"
 
 using namespace pndt;
 using namespace pndt::app;
@@ -111,6 +112,8 @@ int runLive(int argc, char** argv)
     app.add_flag("--no-maps-rawlog", no_maps_rawlog, "do not write maps.rawlog (config maps_rawlog; as pndt-map)");
     app.add_flag("--rawlog-inputs", rawlog_inputs,
                  "interleave the recorded observations with the maps in maps.rawlog (config maps_rawlog_inputs)");
+    ShortTermCli short_term_cli;  // as pndt-map's
+    short_term_cli.addTo(app);
     RefineCli refine_cli;  // as pndt-map's
     refine_cli.addTo(app);
     CLI11_PARSE(app, argc, argv);
@@ -137,6 +140,7 @@ int runLive(int argc, char** argv)
         if (period >= 0) sets.push_back(fmt::format("pndt-map.period={}", period));
         if (voxel_size > 0) sets.push_back(fmt::format("MAP_PanopticNDTMap_00_creationOpts.voxel_size={}", voxel_size));
         if (no_maps_rawlog) sets.push_back("pndt-map.maps_rawlog=false");
+        short_term_cli.addSetsTo(sets);
         if (rawlog_inputs) sets.push_back("pndt-map.maps_rawlog_inputs=true");
         const auto cfg = loadLayeredConfig(files, sets);
         rejectUnknownSections(cfg, {"pndt-map", "pndt-live", "MAP"}, {"MAP_"});
@@ -299,7 +303,8 @@ int runLive(int argc, char** argv)
                    s.labelled, s.seg_dropped, s.label_late, label_wait, s.seg_errors);
         fmt::print("poses              : {} received, {} out of order dropped, {} bad lines, {} connections\n",
                    poses.received(), poses.droppedOutOfOrder(), poses.bad_lines.load(), poses.connections.load());
-        fmt::print("maps written       : {} in {} (index.json)\n", maps.index().size(), out_dir);
+        fmt::print("maps written       : {} in {} (index.json{})\n", maps.index().size(), out_dir,
+                   keptMapsNote(maps));
         if (!record.empty()) fmt::print("recording          : {} ({} frames)\n", record, s.recorded_frames);
         if (const MapRawlogWriter* r = maps.rawlog())
             fmt::print("maps.rawlog        : {} maps + {} input observations, {:.1f} MB\n", r->mapsWritten(),

@@ -31,6 +31,7 @@
 #include "dataset_source.h"
 #include "mapper_settings.h"
 #include "refine_cli.h"
+#include "short_term_cli.h"
 
 using namespace pndt;
 using namespace pndt::app;
@@ -108,9 +109,8 @@ int main(int argc, char** argv)
     app.add_option("--period", period, "short-term map period (config period_unit; 0 = one map)");
     app.add_option("--voxel-size", voxel_size, "voxel size in metres");
     app.add_option("--max-frames", max_frames, "stop after this many mapped frames (0 = all)");
-    int64_t max_voxels = -1;
-    app.add_option("--max-voxels", max_voxels,
-                   "size budget of one map in voxels: a map reaching it is written and a new one started (0 = none)");
+    ShortTermCli short_term_cli;
+    short_term_cli.addTo(app);
     app.add_flag("--no-progress", no_progress, "no progress bar");
     RefineCli refine_cli;
     refine_cli.addTo(app);
@@ -140,7 +140,7 @@ int main(int argc, char** argv)
         if (period >= 0) sets.push_back(fmt::format("pndt-map.period={}", period));
         if (no_maps_rawlog) sets.push_back("pndt-map.maps_rawlog=false");
         if (rawlog_inputs) sets.push_back("pndt-map.maps_rawlog_inputs=true");
-        if (max_voxels >= 0) sets.push_back(fmt::format("pndt-map.max_voxels={}", max_voxels));
+        short_term_cli.addSetsTo(sets);
         if (voxel_size > 0) sets.push_back(fmt::format("MAP_PanopticNDTMap_00_creationOpts.voxel_size={}", voxel_size));
         const auto cfg = loadLayeredConfig(files, sets);
         std::vector<std::string> sections;
@@ -354,9 +354,9 @@ int main(int argc, char** argv)
         fmt::print("label images       : {} without a matching depth frame\n", labels_orphaned);
         fmt::print("pixels skipped     : {} invalid depth, {} beyond max range\n", st.skipped_invalid_depth,
                    st.skipped_over_range);
-        fmt::print("maps written       : {} in {} (index.json); {:.2f} s of mapping time finalising (files are "
+        fmt::print("maps written       : {} in {} (index.json{}); {:.2f} s of mapping time finalising (files are "
                    "written beside mapping)\n",
-                   maps.index().size(), out_dir, maps.secondsWriting());
+                   maps.index().size(), out_dir, keptMapsNote(maps), maps.secondsWriting());
         if (const MapRawlogWriter* r = maps.rawlog())
             fmt::print("maps.rawlog        : {} maps + {} input observations, {:.1f} MB, {:.2f} s on its writer thread\n",
                        r->mapsWritten(), r->inputsWritten(), r->bytesWritten() / 1e6, r->secondsWriting());

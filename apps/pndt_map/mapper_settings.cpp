@@ -22,6 +22,7 @@ MapperSettings MapperSettings::load(const mrpt::config::CConfigFileBase& cfg)
     c.read("write_ply", s.short_term.write_ply);
     c.read("map_prefix", s.short_term.prefix);
     c.read("max_voxels", s.short_term.max_voxels);
+    c.read("keep_maps", s.short_term.keep_maps);
     c.read("pose_source", s.pose_source);
     c.read("pose_file", s.pose_file);
     c.read("pose_format", s.pose_format);

@@ -1,12 +1,14 @@
 // ShortTermMaps: one file per period, each equal to a map built from the same
 // frames, a non-empty map at every moment, ids carried over by overlap.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <pndt/app/short_term_maps.h>
 #include <pndt/mrpt/map_files.h>
 #include <pndt/sim/renderer.h>
 #include <pndt/sim/scene_builder.h>
 #include <pndt/sim/trajectory.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -205,5 +207,60 @@ TEST(ShortTermMaps, AVoxelBudgetWritesTheMapEarlyAndStartsANewOne)
         EXPECT_EQ(loaded->core().voxels().size(), e.voxels) << e.file;
     }
     EXPECT_EQ(frames, data.frames.size());  // every frame in exactly one map (no warm-up: period 0)
+    fs::remove_all(o.out_dir);
+}
+
+// A robot mapping all day: keep_maps bounds the map files on disk and the length of index.json.
+// The folder holds exactly the newest keep_maps archives and PLYs, the index lists exactly
+// those, in order, and each loads as the map it was; fewer maps than that delete nothing.
+TEST(ShortTermMaps, KeepMapsDeletesTheOldestFilesAndTheirIndexEntries)
+{
+    const Frames data = roomFrames(14);
+    ShortTermOptions o;
+    o.period = 2;  // frames: 7 maps
+    o.period_in_frames = true;
+    o.warmup = 0;
+    o.keep_maps = 3;
+    o.write_ply = true;
+    o.out_dir = tempDir().string();
+    const auto filesIn = [&](const std::string& ext) {
+        std::vector<std::string> names;
+        for (const auto& e : fs::directory_iterator(o.out_dir))
+            if (e.path().extension() == ext) names.push_back(e.path().filename().string());
+        std::sort(names.begin(), names.end());
+        return names;
+    };
+    const auto listed = [&] {
+        std::ifstream in(fs::path(o.out_dir) / "index.json");
+        std::vector<std::string> names;
+        for (const auto& e : nlohmann::json::parse(in)) names.push_back(e.at("file").get<std::string>());
+        return names;
+    };
+    {
+        ShortTermMaps few([] { return PanopticNDTMap::Create(); }, o);
+        for (size_t i = 0; i < 6; ++i) few.integrate(data.frames[i], data.poses[i], double(i));
+        few.finish();
+        EXPECT_EQ(few.index().size(), 3u);
+        EXPECT_EQ(few.firstListedMap(), 0u);
+        EXPECT_EQ(keptMapsNote(few), "");
+        EXPECT_EQ(listed().size(), 3u);
+        EXPECT_EQ(filesIn(".gz").size(), 3u);
+    }
+    fs::remove_all(o.out_dir);
+    ShortTermMaps run([] { return PanopticNDTMap::Create(); }, o);
+    for (size_t i = 0; i < data.frames.size(); ++i) run.integrate(data.frames[i], data.poses[i], double(i));
+    run.finish();
+    ASSERT_EQ(run.index().size(), 7u);
+    EXPECT_EQ(run.firstListedMap(), 4u);
+    EXPECT_EQ(keptMapsNote(run), " lists the newest 3; the 4 older deleted");
+    const std::vector<std::string> expected = {"map_0004.pndt.gz", "map_0005.pndt.gz", "map_0006.pndt.gz"};
+    EXPECT_EQ(listed(), expected);
+    EXPECT_EQ(filesIn(".gz"), expected);
+    EXPECT_EQ(filesIn(".ply"), (std::vector<std::string>{"map_0004.ply", "map_0005.ply", "map_0006.ply"}));
+    for (size_t k = 4; k < 7; ++k)
+    {
+        const auto loaded = loadMapArchive((fs::path(o.out_dir) / run.index()[k].file).string());
+        EXPECT_EQ(loaded->core().voxels().size(), run.index()[k].voxels) << run.index()[k].file;
+    }
     fs::remove_all(o.out_dir);
 }

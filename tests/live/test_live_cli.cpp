@@ -192,6 +192,27 @@ TEST_F(LiveCli, MapsTheVirtualCameraAndEqualsTheOfflineReplayOfItsRecording)
     expectReplayEqualsLive(mapped, "--period 1", 2);
 }
 
+// A robot mapping all day: --keep-maps leaves only the newest map files on disk, each listed in
+// index.json, and says how many it deleted.
+TEST_F(LiveCli, KeepMapsLeavesOnlyTheNewestMapFiles)
+{
+    camera("");
+    ASSERT_EQ(live("--max-frames 60 --period 0.3 --keep-maps 2 --no-maps-rawlog"), 0) << out << err;
+    const uint64_t written = number(out, R"(maps written\s+: (\d+))");
+    ASSERT_GE(written, 4u) << out;
+    EXPECT_EQ(number(out, R"(lists the newest 2; the (\d+) older deleted)"), written - 2) << out;
+    std::vector<std::string> files;
+    for (const auto& e : fs::directory_iterator(dir / "live"))
+        if (e.path().extension() == ".gz") files.push_back(e.path().filename());
+    std::sort(files.begin(), files.end());
+    EXPECT_EQ(files, (std::vector<std::string>{fmt::format("map_{:04d}.pndt.gz", written - 2),
+                                               fmt::format("map_{:04d}.pndt.gz", written - 1)}));
+    const std::string index = slurp(dir / "live" / "index.json");
+    for (const auto& f : files) EXPECT_NE(index.find(f), std::string::npos) << index;
+    EXPECT_EQ(index.find("map_0000"), std::string::npos) << index;
+    for (const auto& f : files) EXPECT_GT(pndt::loadMapArchive((dir / "live" / f).string())->core().voxels().size(), 0u) << f;
+}
+
 TEST_F(LiveCli, CameraUnpluggedMidRunWritesTheMapAndExitsWithCode4)
 {
     camera("unplug_after = 30\n");

@@ -106,6 +106,15 @@ void ShortTermMaps::finish()
     if (rawlog_) rawlog_->finish();
 }
 
+std::string keptMapsNote(const ShortTermMaps& maps)
+{
+    if (maps.firstListedMap() == 0) return {};
+    return fmt::format(" lists the newest {}; the {} older deleted", maps.index().size() - maps.firstListedMap(),
+                       maps.firstListedMap());
+}
+
+std::string ShortTermMaps::plyFile(size_t map) const { return fmt::format("{}_{:04d}.ply", options_.prefix, map); }
+
 void ShortTermMaps::write(const Slot& s)
 {
     const auto t0 = std::chrono::steady_clock::now();
@@ -120,27 +129,47 @@ void ShortTermMaps::write(const Slot& s)
     e.frames = s.frames;
     e.voxels = s.map->core().voxels().size();
     e.instances = s.map->core().instances().size();
-    const std::string ply = fmt::format("{}_{:04d}.ply", options_.prefix, index_.size());
+    const std::string ply = plyFile(index_.size());
     index_.push_back(e);
     if (rawlog_) rawlog_->addMap(s.map, s.t_start, s.t_end, s.frames, uint32_t(index_.size() - 1));
     if (options_.write_files)
     {
-        waitForWriter();  // one map at a time, so index.json only ever grows
+        waitForWriter();  // one map at a time, so index.json only ever lists complete maps
+        // Maps beyond keep_maps leave the index first, then their files go (a crash in between
+        // leaves a file no index lists, never an index listing a missing file).
+        std::vector<std::string> deleted;
+        const size_t first = options_.keep_maps > 0 && index_.size() > options_.keep_maps
+                                 ? index_.size() - options_.keep_maps
+                                 : 0;
+        for (; first_listed_ < first; ++first_listed_)
+        {
+            deleted.push_back(index_[first_listed_].file);
+            deleted.push_back(plyFile(first_listed_));
+        }
         nlohmann::json j = nlohmann::json::array();
-        for (const auto& x : index_)
+        for (size_t i = first_listed_; i < index_.size(); ++i)
+        {
+            const auto& x = index_[i];
             j.push_back({{"file", x.file},
                          {"t_start", x.t_start},
                          {"t_end", x.t_end},
                          {"frames", x.frames},
                          {"voxels", x.voxels},
                          {"instances", x.instances}});
+        }
         const std::filesystem::path dir(options_.out_dir);
         writer_ = std::async(std::launch::async, [map = s.map, dir, file = e.file, ply, index = j.dump(2),
-                                                  write_ply = options_.write_ply] {
+                                                  write_ply = options_.write_ply, deleted = std::move(deleted)] {
             saveArchive(*map, (dir / file).string());
             if (write_ply) writePly(*map, (dir / ply).string());
             // Listed only once its files are complete.
             io::writeFileAtomically((dir / "index.json").string(), index + "\n");  // checked writes, errno named
+            for (const std::string& f : deleted)
+            {
+                std::error_code ec;
+                std::filesystem::remove(dir / f, ec);  // a file already gone is fine
+                if (ec) throw io::WriteError(fmt::format("cannot delete the old map file '{}': {}", (dir / f).string(), ec.message()));
+            }
         });
     }
     seconds_writing_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -33,6 +33,11 @@ struct ShortTermOptions
     /// finalised and written early and the next short-term map takes over (the successor if
     /// one is warming up, else a new map), so a long run never grows one map without bound.
     uint64_t max_voxels = 0;
+    /// Map files kept on disk (0 = all): once a new map is written, the oldest beyond the
+    /// newest `keep_maps` are deleted (archive and PLY) and index.json lists only those kept,
+    /// so a robot that maps all day neither fills its disk with maps nor rewrites an
+    /// ever longer index every period. maps.rawlog is not trimmed (it keeps every map).
+    size_t keep_maps = 0;
 };
 
 /// One written map, as listed in index.json.
@@ -66,7 +71,11 @@ class ShortTermMaps
     /// background is rethrown here or at the next hand-over.
     void finish();
 
+    /// Every map written this run, in order (with keep_maps, the files of those before
+    /// firstListedMap() are deleted).
     const std::vector<MapIndexEntry>& index() const { return index_; }
+    /// Index of the first map index.json lists (0 unless keep_maps deleted older ones).
+    size_t firstListedMap() const { return first_listed_; }
     /// Stats of every frame integrated into any map (warm-up frames count twice).
     const FrameStats& totals() const { return totals_; }
     /// Seconds the mapping thread spent on finished maps: finalising them and
@@ -97,6 +106,7 @@ class ShortTermMaps
     void startSuccessor(double t);
     void feed(Slot& s, const PanopticFrame& f, const Pose& T, double t);
     void write(const Slot& s);
+    std::string plyFile(size_t map) const;
     void waitForWriter();
 
     Factory make_map_;
@@ -107,10 +117,14 @@ class ShortTermMaps
     uint64_t budget_hand_overs_ = 0;
     bool finished_ = false;
     std::vector<MapIndexEntry> index_;
+    size_t first_listed_ = 0;  ///< see firstListedMap()
     FrameStats totals_;
     double seconds_writing_ = 0;
     std::future<void> writer_;  ///< the map being written, if any
     std::unique_ptr<MapRawlogWriter> rawlog_;  ///< maps.rawlog, its own writer thread
 };
+
+/// For the apps' summaries: "" or ", lists the newest K; the N older deleted" (keep_maps).
+std::string keptMapsNote(const ShortTermMaps& maps);
 
 }  // namespace pndt::app
