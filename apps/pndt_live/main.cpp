@@ -23,6 +23,7 @@
 #include <sstream>
 
 #include "mapper_settings.h"
+#include "heap_trim.h"
 #include "refine_cli.h"
 #include "short_term_cli.h"
 
@@ -275,7 +276,8 @@ int runLive(int argc, char** argv)
 
         const auto t0 = std::chrono::steady_clock::now();
         uint64_t last_cap = 0, last_seg = 0, last_map = 0;
-        double last_t = 0;
+        double last_t = 0, next_trim = 10;
+        HeapTrim trim;
         pipeline.run(g_stop, [&](const LiveStats& s, double t) {
             const double dt = std::max(1e-3, t - last_t);
             fmt::print("[{:6.1f} s] capture {:5.1f} fps | segmentation {:5.1f} fps, labelled {:3.0f}%, dropped {} | "
@@ -286,6 +288,11 @@ int runLive(int argc, char** argv)
                        s.pose_wait_skipped, s.no_pose_skipped, poses.received(), poses.open_connections.load());
             std::fflush(stdout);
             last_cap = s.captured, last_seg = s.segmented, last_map = s.mapped, last_t = t;
+            if (t >= next_trim)
+            {
+                next_trim = t + 10;
+                trim.run();
+            }
             if (seconds > 0 && t >= seconds) g_stop = true;
         });
         const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -305,6 +312,9 @@ int runLive(int argc, char** argv)
                    poses.received(), poses.droppedOutOfOrder(), poses.bad_lines.load(), poses.connections.load());
         fmt::print("maps written       : {} in {} (index.json{})\n", maps.index().size(), out_dir,
                    keptMapsNote(maps));
+        if (trim.runs > 0)
+            fmt::print("heap               : freed memory handed back {} times, {:.2f} ms at most\n", trim.runs,
+                       trim.longest_ms);
         if (!record.empty()) fmt::print("recording          : {} ({} frames)\n", record, s.recorded_frames);
         if (const MapRawlogWriter* r = maps.rawlog())
             fmt::print("maps.rawlog        : {} maps + {} input observations, {:.1f} MB\n", r->mapsWritten(),
