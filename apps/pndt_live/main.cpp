@@ -22,8 +22,8 @@
 #include <filesystem>
 #include <sstream>
 
-#include "mapper_settings.h"
 #include "heap_trim.h"
+#include "mapper_settings.h"
 #include "refine_cli.h"
 #include "short_term_cli.h"
 

@@ -168,7 +168,9 @@ void ShortTermMaps::write(const Slot& s)
             {
                 std::error_code ec;
                 std::filesystem::remove(dir / f, ec);  // a file already gone is fine
-                if (ec) throw io::WriteError(fmt::format("cannot delete the old map file '{}': {}", (dir / f).string(), ec.message()));
+                if (ec)
+                    throw io::WriteError(
+                        fmt::format("cannot delete the old map file '{}': {}", (dir / f).string(), ec.message()));
             }
         });
     }

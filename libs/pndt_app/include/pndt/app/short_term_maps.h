@@ -124,7 +124,7 @@ class ShortTermMaps
     std::unique_ptr<MapRawlogWriter> rawlog_;  ///< maps.rawlog, its own writer thread
 };
 
-/// For the apps' summaries: "" or ", lists the newest K; the N older deleted" (keep_maps).
+/// For the apps' summaries: "" or " lists the newest K; the N older deleted" (keep_maps).
 std::string keptMapsNote(const ShortTermMaps& maps);
 
 }  // namespace pndt::app
