@@ -88,3 +88,18 @@ TEST(ObservationPairer, ACopyPairsAsTheOriginalButTakesNoSpareFrame)
     EXPECT_EQ(done.back().frame.depth.data.data(), spare_pixels);
     EXPECT_EQ(done.back().frame.semantic.data, done.front().frame.semantic.data);
 }
+
+TEST(ObservationPairer, AScanThatFailsToConvertLeavesNothingPendingAfterARecycledFrame)
+{
+    ObservationPairer pairer;
+    pairer.recycle(pairOne(pairer, 0, 2.0f, true));
+    auto bad = fixtures::wallScan(1);
+    bad->cameraParams.fx(0);  // invalid intrinsics
+    std::vector<PairedFrame> done;
+    EXPECT_THROW(pairer.push(*bad, kRobot, done), InputError);
+    EXPECT_FALSE(pairer.hasPending());
+    pairer.flush(done);
+    EXPECT_TRUE(done.empty());  // no half-converted frame comes out later
+    const PairedFrame next = pairOne(pairer, 2, 2.5f, false);
+    EXPECT_FLOAT_EQ(next.frame.depth.at(3, 3), 2.5f);
+}

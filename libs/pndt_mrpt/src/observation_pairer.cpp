@@ -34,19 +34,14 @@ bool ObservationPairer::pushScan(const CObservation3DRangeScan& scan, const Pose
 {
     if (!scan.hasRangeImage) return false;
     flush(done);  // the previous frame's labels did not come: geometry only
-    if (spare_)
-    {
-        pending_ = std::move(spare_);
-        spare_.reset();
-    }
-    else
-        pending_.emplace();
-    PairedFrame& p = *pending_;
-    depthFrameFrom(scan, p.frame);  // every field of the frame is set anew
+    PairedFrame p = spare_ ? std::move(*spare_) : PairedFrame{};
+    spare_.reset();
+    depthFrameFrom(scan, p.frame);  // sets every field of the frame anew; a throw leaves nothing pending
     p.T_world_cam = T_world_cam;
     p.stamp = scan.timestamp;
     p.label = scan.sensorLabel;
     p.labelled = false;
+    pending_ = std::move(p);
     tryComplete(done);
     return true;
 }
