@@ -317,8 +317,8 @@ int runLive(int argc, char** argv)
                        trim.longest_ms);
         if (!record.empty()) fmt::print("recording          : {} ({} frames)\n", record, s.recorded_frames);
         if (const MapRawlogWriter* r = maps.rawlog())
-            fmt::print("maps.rawlog        : {} maps + {} input observations, {:.1f} MB\n", r->mapsWritten(),
-                       r->inputsWritten(), r->bytesWritten() / 1e6);
+            fmt::print("maps.rawlog        : {} maps + {} input observations{}, {:.1f} MB written\n",
+                       r->mapsWritten(), r->inputsWritten(), rawlogFilesNote(*r), r->bytesWritten() / 1e6);
         if (refinement)
         {
             refinement->writeTum(out_dir + "/refined_poses.tum");

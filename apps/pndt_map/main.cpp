@@ -358,8 +358,10 @@ int main(int argc, char** argv)
                    "written beside mapping)\n",
                    maps.index().size(), out_dir, keptMapsNote(maps), maps.secondsWriting());
         if (const MapRawlogWriter* r = maps.rawlog())
-            fmt::print("maps.rawlog        : {} maps + {} input observations, {:.1f} MB, {:.2f} s on its writer thread\n",
-                       r->mapsWritten(), r->inputsWritten(), r->bytesWritten() / 1e6, r->secondsWriting());
+            fmt::print("maps.rawlog        : {} maps + {} input observations{}, {:.1f} MB written, {:.2f} s on its "
+                       "writer thread\n",
+                       r->mapsWritten(), r->inputsWritten(), rawlogFilesNote(*r), r->bytesWritten() / 1e6,
+                       r->secondsWriting());
         fmt::print("final map          : {}\n", final_map->asString());
         fmt::print("memory             : map {:.1f} MB, peak RSS {:.1f} MB\n", core.memoryBytes() / 1e6,
                    peakRssBytes() / 1e6);

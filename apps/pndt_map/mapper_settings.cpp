@@ -35,6 +35,7 @@ MapperSettings MapperSettings::load(const mrpt::config::CConfigFileBase& cfg)
     c.read("maps_rawlog", s.short_term.write_rawlog);
     c.read("maps_rawlog_label", s.short_term.rawlog_label);
     c.read("maps_rawlog_inputs", s.maps_rawlog_inputs);
+    c.read("maps_rawlog_segment", s.short_term.rawlog_segment_maps);
     std::string refine_options;
     c.read("refine", s.refine);
     c.read("refine_options", refine_options);

@@ -2,7 +2,8 @@
 // observations, a truncated file (a crash) reads back its complete objects with
 // MRPT's own reader and rawlog-edit, ShortTermMaps appends one observation per
 // map, pndt-map's output is listed and cut by the stock rawlog-edit, and a full
-// disk is reported as a write error naming the file.
+// disk is reported as a write error naming the file; long runs cut the stream into
+// files of N maps and delete the files whose maps all fell out of the newest kept.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <mrpt/io/CFileGZInputStream.h>
@@ -15,6 +16,7 @@
 #include <pndt/io/atomic_file.h>
 #include <pndt/mrpt/CObservationPanopticMap.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstdlib>
@@ -310,6 +312,140 @@ TEST(MapRawlog, PndtMapOutputIsListedAndCutByTheStockRawlogEdit)
     r = cli::run(cli::mapExe() + input + " -o " + (dir / "off").string() + " --period 1 --no-maps-rawlog");
     ASSERT_EQ(r.code, 0) << r.out;
     EXPECT_FALSE(fs::exists(dir / "off" / "maps.rawlog"));
+    fs::remove_all(dir);
+}
+
+namespace
+{
+/// "M<sequence>" for a map, the input's whole-second stamp otherwise.
+std::vector<std::string> contentsOf(const std::string& file)
+{
+    std::vector<std::string> out;
+    for (const auto& o : readAll(file))
+    {
+        const auto map = std::dynamic_pointer_cast<CObservationPanopticMap>(o);
+        out.push_back(map ? "M" + std::to_string(map->sequence) : std::to_string(int(mrpt::Clock::toDouble(o->timestamp))));
+    }
+    return out;
+}
+
+std::vector<std::string> rawlogsIn(const fs::path& dir)
+{
+    std::vector<std::string> files;
+    for (const auto& e : fs::directory_iterator(dir))
+        if (e.path().extension() == ".rawlog") files.push_back(e.path().filename());
+    std::sort(files.begin(), files.end());
+    return files;
+}
+}  // namespace
+
+TEST(MapRawlog, SegmentsHoldNMapsEachAndTheInputsAfterAFilesLastMapGoToTheNext)
+{
+    const fs::path dir = cli::tempDir("rawlog_segments");
+    const auto m = smallMap(2);
+    MapRawlogOptions o;
+    o.path = (dir / "maps.rawlog").string();
+    o.segment_maps = 2;
+    {
+        MapRawlogWriter w(o);
+        // Map k covers [2k, 2k + 1]; one input a second, released as mapping passes it.
+        for (uint32_t k = 0; k < 5; ++k)
+        {
+            w.addInput(poseAt(2 * k));
+            w.addInput(poseAt(2 * k + 1));
+            w.addMap(m, 2 * k, 2 * k + 1, 2, k);
+        }
+        w.addInput(poseAt(10));
+        w.finish();
+        EXPECT_EQ(w.mapsWritten(), 5u);
+        EXPECT_EQ(w.inputsWritten(), 11u);
+        EXPECT_EQ(w.filesWritten(), 3u);
+        EXPECT_EQ(w.filesDeleted(), 0u);
+        uint64_t on_disk = 0;
+        for (const auto& f : rawlogsIn(dir)) on_disk += fs::file_size(dir / f);
+        EXPECT_EQ(on_disk, w.bytesWritten());
+        EXPECT_EQ(rawlogFilesNote(w), " in maps-0000.rawlog .. maps-0002.rawlog");
+    }
+    EXPECT_EQ(rawlogsIn(dir), (std::vector<std::string>{"maps-0000.rawlog", "maps-0001.rawlog", "maps-0002.rawlog"}));
+    EXPECT_EQ(contentsOf((dir / "maps-0000.rawlog").string()),
+              (std::vector<std::string>{"0", "1", "M0", "2", "3", "M1"}));
+    EXPECT_EQ(contentsOf((dir / "maps-0001.rawlog").string()),
+              (std::vector<std::string>{"4", "5", "M2", "6", "7", "M3"}));
+    EXPECT_EQ(contentsOf((dir / "maps-0002.rawlog").string()), (std::vector<std::string>{"8", "9", "M4", "10"}));
+    fs::remove_all(dir);
+}
+
+TEST(MapRawlog, KeepMapsDeletesTheFilesWhoseMapsAreAllOlder)
+{
+    const fs::path dir = cli::tempDir("rawlog_keep");
+    const auto m = smallMap(2);
+    MapRawlogOptions o;
+    o.path = (dir / "maps.rawlog").string();
+    o.segment_maps = 2;
+    o.keep_maps = 3;
+    MapRawlogWriter w(o);
+    // Files of maps {0,1} {2,3} {4,5} {6}: after map 6 the newest three are 4-6, so the
+    // first two files go, the third stays (it holds map 4) with the open fourth.
+    std::vector<std::vector<std::string>> after;  // files on disk after each map
+    for (uint32_t k = 0; k < 7; ++k)
+    {
+        w.addMap(m, k, k + 0.5, 2, k);
+        waitWritten(w, k + 1);
+        after.push_back(rawlogsIn(dir));
+    }
+    w.finish();
+    EXPECT_EQ(w.filesDeleted(), 2u);
+    EXPECT_EQ(rawlogFilesNote(w), " in maps-0002.rawlog .. maps-0003.rawlog; the 2 older files deleted");
+    using V = std::vector<std::string>;
+    EXPECT_EQ(after[2], (V{"maps-0000.rawlog", "maps-0001.rawlog"}));  // maps 0-2 are the newest three
+    EXPECT_EQ(after[3], (V{"maps-0000.rawlog", "maps-0001.rawlog"}));  // map 0 is out; 1 is still in the file
+    EXPECT_EQ(after[4], (V{"maps-0001.rawlog", "maps-0002.rawlog"}));  // 0 and 1 out: the first file goes
+    EXPECT_EQ(after[6], (V{"maps-0002.rawlog", "maps-0003.rawlog"}));
+    EXPECT_EQ(contentsOf((dir / "maps-0002.rawlog").string()), (V{"M4", "M5"}));
+    EXPECT_EQ(contentsOf((dir / "maps-0003.rawlog").string()), (V{"M6"}));
+    // One file cannot drop its oldest maps.
+    o.segment_maps = 0;
+    EXPECT_THROW(MapRawlogWriter{o}, std::invalid_argument);
+    fs::remove_all(dir);
+}
+
+TEST(MapRawlog, PndtMapWithKeepMapsLeavesTheNewestMapsInRawlogsTheStockToolsRead)
+{
+    const fs::path dir = cli::tempDir("rawlog_cli_keep");
+    const std::string input = (dir / "room.rawlog").string();
+    cli::Room(48).writeRawlog(input, 48);  // 6 s at 8 frames/s
+    const fs::path out = dir / "out";
+    auto r = cli::run(cli::mapExe() + input + " -o " + out.string() + " --period 1 --keep-maps 2");
+    ASSERT_EQ(r.code, 0) << r.out;
+    std::ifstream jf(out / "index.json");
+    const auto index = nlohmann::json::parse(jf);
+    ASSERT_EQ(index.size(), 2u);
+    // Six maps in files of two (the automatic segment: keep_maps): maps 4 and 5 are kept.
+    EXPECT_NE(r.out.find("maps.rawlog        : 6 maps + 0 input observations in maps-0002.rawlog; the 2 older "
+                         "files deleted"),
+              std::string::npos)
+        << r.out;
+    EXPECT_EQ(rawlogsIn(out), (std::vector<std::string>{"maps-0002.rawlog"}));
+    const std::string txt = (dir / "ts.txt").string();
+    r = cli::run("rawlog-edit" + pluginArg() + " --list-timestamps -i " + (out / "maps-0002.rawlog").string() +
+                 " --text-file-output " + txt);
+    ASSERT_EQ(r.code, 0) << r.out;
+    std::ifstream f(txt);
+    double t;
+    std::string label, cls;
+    std::vector<double> stamps;
+    while (f >> t >> label >> cls) stamps.push_back(t);
+    ASSERT_EQ(stamps.size(), 2u) << r.out;
+    for (size_t k = 0; k < 2; ++k) EXPECT_NEAR(stamps[k], index[k]["t_end"].get<double>(), 1e-5);
+
+    // An explicit segment size without keep_maps keeps every file.
+    r = cli::run(cli::mapExe() + input + " -o " + (dir / "seg").string() + " --period 1 --maps-rawlog-segment 4");
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_EQ(rawlogsIn(dir / "seg"), (std::vector<std::string>{"maps-0000.rawlog", "maps-0001.rawlog"}));
+    EXPECT_EQ(contentsOf((dir / "seg" / "maps-0001.rawlog").string()), (std::vector<std::string>{"M4", "M5"}));
+    r = cli::run(cli::mapExe() + input + " -o " + (dir / "bad").string() + " --maps-rawlog-segment -1");
+    EXPECT_NE(r.code, 0);
+    EXPECT_NE(r.out.find("must be 0 or more"), std::string::npos) << r.out;
     fs::remove_all(dir);
 }
 

@@ -7,6 +7,7 @@
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/datetime.h>
+#include <pndt/mrpt/CObservationPanopticMap.h>
 #include <pndt/mrpt/map_files.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -46,12 +47,12 @@ int sh(const std::string& cmd)
     const int rc = std::system(cmd.c_str());
     return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
 }
-/// Stamps (seconds) of the range scans in a rawlog; `depth` gets a hash of each depth image.
-std::vector<double> scanStamps(const fs::path& rawlog, std::vector<size_t>* depth = nullptr)
+/// Calls `use` with each complete object of a rawlog, in order.
+template <class Use>
+void forEachObject(const fs::path& rawlog, Use use)
 {
     mrpt::io::CFileGZInputStream f(rawlog.string());
     auto a = mrpt::serialization::archiveFrom(f);
-    std::vector<double> t;
     for (;;)
     {
         mrpt::serialization::CSerializable::Ptr o;
@@ -61,8 +62,16 @@ std::vector<double> scanStamps(const fs::path& rawlog, std::vector<size_t>* dept
         }
         catch (const std::exception&)
         {
-            break;
+            return;
         }
+        use(o);
+    }
+}
+/// Stamps (seconds) of the range scans in a rawlog; `depth` gets a hash of each depth image.
+std::vector<double> scanStamps(const fs::path& rawlog, std::vector<size_t>* depth = nullptr)
+{
+    std::vector<double> t;
+    forEachObject(rawlog, [&](const mrpt::serialization::CSerializable::Ptr& o) {
         if (auto s = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(o))
         {
             t.push_back(mrpt::Clock::toDouble(s->timestamp));
@@ -70,7 +79,7 @@ std::vector<double> scanStamps(const fs::path& rawlog, std::vector<size_t>* dept
                 depth->push_back(std::hash<std::string_view>{}(std::string_view(
                     reinterpret_cast<const char*>(s->rangeImage.data()), size_t(s->rangeImage.size()) * 2)));
         }
-    }
+    });
     return t;
 }
 uint64_t number(const std::string& text, const std::string& regex)
@@ -197,7 +206,7 @@ TEST_F(LiveCli, MapsTheVirtualCameraAndEqualsTheOfflineReplayOfItsRecording)
 TEST_F(LiveCli, KeepMapsLeavesOnlyTheNewestMapFiles)
 {
     camera("");
-    ASSERT_EQ(live("--max-frames 60 --period 0.3 --keep-maps 2 --no-maps-rawlog"), 0) << out << err;
+    ASSERT_EQ(live("--max-frames 60 --period 0.3 --keep-maps 2"), 0) << out << err;
     const uint64_t written = number(out, R"(maps written\s+: (\d+))");
     ASSERT_GE(written, 4u) << out;
     EXPECT_EQ(number(out, R"(lists the newest 2; the (\d+) older deleted)"), written - 2) << out;
@@ -211,6 +220,21 @@ TEST_F(LiveCli, KeepMapsLeavesOnlyTheNewestMapFiles)
     for (const auto& f : files) EXPECT_NE(index.find(f), std::string::npos) << index;
     EXPECT_EQ(index.find("map_0000"), std::string::npos) << index;
     for (const auto& f : files) EXPECT_GT(pndt::loadMapArchive((dir / "live" / f).string())->core().voxels().size(), 0u) << f;
+    // The maps' rawlog in files of two maps: what is left holds the newest two or three maps.
+    std::vector<uint32_t> sequences;
+    for (const auto& e : fs::directory_iterator(dir / "live"))
+    {
+        if (e.path().extension() != ".rawlog") continue;
+        EXPECT_NE(e.path().filename(), "maps.rawlog");
+        forEachObject(e.path(), [&](const mrpt::serialization::CSerializable::Ptr& o) {
+            if (auto m = std::dynamic_pointer_cast<pndt::CObservationPanopticMap>(o)) sequences.push_back(m->sequence);
+        });
+    }
+    std::sort(sequences.begin(), sequences.end());
+    ASSERT_GE(sequences.size(), 2u) << out;
+    EXPECT_LE(sequences.size(), 3u) << out;
+    EXPECT_EQ(sequences.back() + 1, written);
+    EXPECT_EQ(sequences.back() - sequences.front() + 1, sequences.size());  // no gap
 }
 
 TEST_F(LiveCli, CameraUnpluggedMidRunWritesTheMapAndExitsWithCode4)

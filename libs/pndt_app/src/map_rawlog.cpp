@@ -35,6 +35,12 @@ class GzSink : public mrpt::io::CStream
 {
    public:
     GzSink(void* gz, const std::string& path) : gz_(gz), path_(path) {}
+    /// The next segment's file (the archive over this sink holds no state of its own).
+    void retarget(void* gz, const std::string& path)
+    {
+        gz_ = gz;
+        path_ = path;
+    }
     size_t Write(const void* buffer, size_t count) override
     {
         const auto* p = static_cast<const char*>(buffer);
@@ -67,10 +73,67 @@ class GzSink : public mrpt::io::CStream
 
 MapRawlogWriter::MapRawlogWriter(MapRawlogOptions options) : options_(std::move(options))
 {
-    const std::string mode = fmt::format("wb{}", std::clamp(options_.compression, 0, 9));
-    gz_ = gzopen(options_.path.c_str(), mode.c_str());
-    if (!gz_) throw io::WriteError(fmt::format("cannot create {}: {}", options_.path, std::strerror(errno)));
+    if (options_.keep_maps > 0 && options_.segment_maps == 0)
+        throw std::invalid_argument("maps rawlog: keep_maps needs segment_maps (one file cannot drop its oldest maps)");
+    openFile();  // the first file now, so a folder we cannot write to is reported at once
     thread_ = std::thread([this] { run(); });
+}
+
+std::string MapRawlogWriter::segmentPath(size_t k) const
+{
+    if (options_.segment_maps == 0) return options_.path;
+    const std::filesystem::path p(options_.path);
+    return (p.parent_path() / fmt::format("{}-{:04d}{}", p.stem().string(), k, p.extension().string())).string();
+}
+
+void MapRawlogWriter::openFile()
+{
+    std::string path;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        path = segmentPath(next_file_);
+    }
+    const std::string mode = fmt::format("wb{}", std::clamp(options_.compression, 0, 9));
+    void* gz = gzopen(path.c_str(), mode.c_str());
+    if (!gz) throw io::WriteError(fmt::format("cannot create {}: {}", path, std::strerror(errno)));
+    gz_ = gz;
+    gz_path_ = path;
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++next_file_;
+}
+
+void MapRawlogWriter::closeFile()
+{
+    const int rc = gzclose(handle(gz_));
+    gz_ = nullptr;
+    if (rc != Z_OK) throw io::WriteError(fmt::format("cannot close {}", gz_path_));
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(gz_path_, ec);  // with the trailer
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!ec) closed_bytes_ += size;
+}
+
+void MapRawlogWriter::deleteOldFiles(uint64_t maps_done)
+{
+    if (options_.keep_maps == 0 || maps_done < options_.keep_maps) return;
+    const uint64_t first_kept_map = maps_done - options_.keep_maps;
+    const uint64_t S = options_.segment_maps;
+    for (;;)
+    {
+        size_t k;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            k = first_kept_file_;
+            // Only closed files: the last map of file k is (k + 1) S - 1.
+            if (k + 1 >= next_file_ + (gz_ ? 0 : 1) || (k + 1) * S > first_kept_map) return;
+        }
+        const std::string path = segmentPath(k);
+        std::error_code ec;
+        std::filesystem::remove(path, ec);  // a file already gone is fine
+        if (ec) throw io::WriteError(fmt::format("cannot delete the old maps rawlog '{}': {}", path, ec.message()));
+        std::lock_guard<std::mutex> lock(mutex_);
+        ++first_kept_file_;
+    }
 }
 
 MapRawlogWriter::~MapRawlogWriter()
@@ -134,8 +197,9 @@ void MapRawlogWriter::enqueue(mrpt::serialization::CSerializable::Ptr obj, bool 
 
 void MapRawlogWriter::run()
 {
-    GzSink sink(gz_, options_.path);
+    GzSink sink(gz_, gz_path_);
     auto archive = mrpt::serialization::archiveFrom(sink);
+    uint64_t maps_done = 0;  // this thread's count (maps_ counts only what is on disk without error)
     for (;;)
     {
         std::pair<mrpt::serialization::CSerializable::Ptr, bool> item;
@@ -153,10 +217,18 @@ void MapRawlogWriter::run()
         {
             if (!error_)
             {
+                if (!gz_) openFile();  // the next segment, opened with its first object: no empty file at the end
+                sink.retarget(gz_, gz_path_);
                 archive << *item.first;
                 // Complete objects are on disk: a crash leaves a readable prefix.
                 if (gzflush(handle(gz_), Z_SYNC_FLUSH) != Z_OK)
-                    throw io::WriteError(fmt::format("cannot write {}: {}", options_.path, gzMessage(gz_)));
+                    throw io::WriteError(fmt::format("cannot write {}: {}", gz_path_, gzMessage(gz_)));
+                if (item.second)
+                {
+                    ++maps_done;
+                    if (options_.segment_maps > 0 && maps_done % options_.segment_maps == 0) closeFile();
+                    deleteOldFiles(maps_done);
+                }
             }
         }
         catch (...)
@@ -171,8 +243,8 @@ void MapRawlogWriter::run()
         if (!error_)
         {
             (item.second ? maps_ : inputs_) += 1;
-            const z_off_t at = gzoffset(handle(gz_));
-            if (at >= 0) bytes_ = uint64_t(at);
+            const z_off_t at = gz_ ? gzoffset(handle(gz_)) : 0;
+            if (at >= 0) bytes_ = closed_bytes_ + uint64_t(at);
         }
         cv_.notify_all();
     }
@@ -199,13 +271,21 @@ void MapRawlogWriter::finish()
         cv_.notify_all();
     }
     if (thread_.joinable()) thread_.join();
-    const int rc = gzclose(handle(gz_));
-    gz_ = nullptr;
+    std::exception_ptr close_error;
+    if (gz_)
+    {
+        try
+        {
+            closeFile();
+        }
+        catch (...)
+        {
+            close_error = std::current_exception();
+        }
+    }
     std::lock_guard<std::mutex> lock(mutex_);
-    std::error_code ec;
-    if (const auto size = std::filesystem::file_size(options_.path, ec); !ec) bytes_ = size;  // with the trailer
-    if (rc != Z_OK && !error_)
-        error_ = std::make_exception_ptr(io::WriteError(fmt::format("cannot close {}", options_.path)));
+    bytes_ = closed_bytes_;  // every file with its trailer
+    if (close_error && !error_) error_ = close_error;
     if (error_) std::rethrow_exception(error_);
 }
 
@@ -230,10 +310,32 @@ uint64_t MapRawlogWriter::bytesWritten() const
     std::lock_guard<std::mutex> lock(mutex_);
     return bytes_;
 }
+size_t MapRawlogWriter::filesWritten() const
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    return next_file_;
+}
+size_t MapRawlogWriter::filesDeleted() const
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    return first_kept_file_;
+}
 double MapRawlogWriter::secondsWriting() const
 {
     std::lock_guard<std::mutex> lock(mutex_);
     return seconds_;
+}
+
+std::string rawlogFilesNote(const MapRawlogWriter& w)
+{
+    const size_t files = w.filesWritten(), deleted = w.filesDeleted();
+    if (w.segmentPath(0) == w.path()) return {};
+    namespace fs = std::filesystem;
+    const auto name = [&](size_t k) { return fs::path(w.segmentPath(k)).filename().string(); };
+    std::string note = files - deleted == 1 ? " in " + name(deleted)
+                                            : fmt::format(" in {} .. {}", name(deleted), name(files - 1));
+    if (deleted > 0) note += fmt::format("; the {} older files deleted", deleted);
+    return note;
 }
 
 }  // namespace pndt::app

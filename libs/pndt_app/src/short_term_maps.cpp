@@ -24,8 +24,14 @@ ShortTermMaps::ShortTermMaps(Factory make_map, ShortTermOptions options)
             throw io::WriteError(fmt::format("cannot create the output folder '{}': {}", options_.out_dir, ec.message()));
     }
     if (options_.write_files && options_.write_rawlog)
-        rawlog_ = std::make_unique<MapRawlogWriter>(MapRawlogOptions{
-            (std::filesystem::path(options_.out_dir) / "maps.rawlog").string(), options_.rawlog_label});
+    {
+        MapRawlogOptions o;
+        o.path = (std::filesystem::path(options_.out_dir) / "maps.rawlog").string();
+        o.sensor_label = options_.rawlog_label;
+        o.keep_maps = options_.keep_maps;
+        o.segment_maps = options_.rawlog_segment_maps > 0 ? options_.rawlog_segment_maps : options_.keep_maps;
+        rawlog_ = std::make_unique<MapRawlogWriter>(o);
+    }
 }
 
 ShortTermMaps::~ShortTermMaps()

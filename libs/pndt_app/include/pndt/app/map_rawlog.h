@@ -6,6 +6,10 @@
 // only queues shared pointers. Each object is followed by a zlib sync flush, so
 // the file on disk is always a valid rawlog up to its last complete object: a
 // crash leaves a truncated file whose complete objects MRPT reads back.
+//
+// A long run can cut the stream into files of N maps (segment_maps) and delete the
+// files whose maps all fell out of the newest keep_maps, so a robot that maps all
+// day keeps its disk (a map every 3 s is ~1.3 GB an hour in one file).
 #pragma once
 
 #include <mrpt/obs/CObservation.h>
@@ -23,7 +27,9 @@ namespace pndt::app
 {
 struct MapRawlogOptions
 {
-    std::string path;                         ///< written from scratch (truncated if it exists)
+    /// Written from scratch (truncated if it exists). With segment_maps, the files are
+    /// named after it with the segment's number: maps.rawlog -> maps-0000.rawlog, ...
+    std::string path;
     std::string sensor_label = "PANOPTIC_MAP";
     int compression = 1;                      ///< gzip level 0..9 (1: fastest, as MRPT's default)
     /// Input observations held back until mapping passes their time; beyond this
@@ -31,6 +37,12 @@ struct MapRawlogOptions
     size_t max_held_inputs = 64;
     /// Objects queued for the writer thread before addInput()/addMap() wait (back-pressure).
     size_t max_queued = 32;
+    /// Maps per file (0 = one file, `path`). Each file is a complete rawlog; the inputs
+    /// interleaved after a file's last map go into the next file, opened with them.
+    size_t segment_maps = 0;
+    /// With segments: a closed file none of whose maps is among the newest keep_maps
+    /// maps is deleted (0 = keep every file). Needs segment_maps.
+    size_t keep_maps = 0;
 };
 
 class MapRawlogWriter
@@ -56,9 +68,14 @@ class MapRawlogWriter
     void finish();
 
     const std::string& path() const { return options_.path; }
+    /// The file of segment k (path() itself without segments).
+    std::string segmentPath(size_t k) const;
+    /// Files opened so far (1 without segments) and, of them, deleted (keep_maps).
+    size_t filesWritten() const;
+    size_t filesDeleted() const;
     uint64_t mapsWritten() const;
     uint64_t inputsWritten() const;
-    /// Compressed bytes on disk so far.
+    /// Compressed bytes written so far (deleted files included).
     uint64_t bytesWritten() const;
     /// Seconds the writer thread spent serialising, compressing and flushing.
     double secondsWriting() const;
@@ -68,9 +85,16 @@ class MapRawlogWriter
     void enqueue(mrpt::serialization::CSerializable::Ptr obj, bool is_map);
     void run();
     void rethrowError();
+    void openFile();                        // the next segment (writer thread, or the constructor)
+    void closeFile();                       // the current one, its size added to closed_bytes_
+    void deleteOldFiles(uint64_t maps_done);  // segments beyond keep_maps (writer thread)
 
     MapRawlogOptions options_;
     void* gz_ = nullptr;  ///< gzFile, opaque to keep zlib.h out of the header
+    std::string gz_path_;  ///< the file gz_ writes
+    // Segments: next to open, first not yet deleted; bytes of the closed files.
+    size_t next_file_ = 0, first_kept_file_ = 0;
+    uint64_t closed_bytes_ = 0;
     std::deque<mrpt::obs::CObservation::Ptr> held_;  ///< inputs not yet passed by mapping (caller's thread)
 
     mutable std::mutex mutex_;
@@ -82,5 +106,9 @@ class MapRawlogWriter
     double seconds_ = 0;
     std::thread thread_;
 };
+
+/// For the apps' summaries: "" for one file, else where the segments are, e.g.
+/// " in maps-0003.rawlog .. maps-0004.rawlog; the 3 older files deleted".
+std::string rawlogFilesNote(const MapRawlogWriter& writer);
 
 }  // namespace pndt::app

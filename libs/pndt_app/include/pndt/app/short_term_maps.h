@@ -29,6 +29,9 @@ struct ShortTermOptions
     /// frame's time, to <out_dir>/maps.rawlog (map_rawlog.h; needs write_files).
     bool write_rawlog = false;
     std::string rawlog_label = "PANOPTIC_MAP";  ///< sensorLabel of the maps in maps.rawlog
+    /// Maps per rawlog file (map_rawlog.h): 0 = automatic, one maps.rawlog without keep_maps,
+    /// keep_maps maps a file (maps-0000.rawlog, ...) with it.
+    size_t rawlog_segment_maps = 0;
     /// Size budget of one map in voxels (0 = none): a map that reaches it after a frame is
     /// finalised and written early and the next short-term map takes over (the successor if
     /// one is warming up, else a new map), so a long run never grows one map without bound.
@@ -36,7 +39,9 @@ struct ShortTermOptions
     /// Map files kept on disk (0 = all): once a new map is written, the oldest beyond the
     /// newest `keep_maps` are deleted (archive and PLY) and index.json lists only those kept,
     /// so a robot that maps all day neither fills its disk with maps nor rewrites an
-    /// ever longer index every period. maps.rawlog is not trimmed (it keeps every map).
+    /// ever longer index every period. The maps' rawlog is then cut into files
+    /// (rawlog_segment_maps) and a file whose maps are all older than the newest
+    /// `keep_maps` is deleted: at most keep_maps + one file's maps stay in it.
     size_t keep_maps = 0;
 };
 
