@@ -5,7 +5,8 @@
 # tests/seg's tiny panoptic network as the segmentation, short-term maps every 3 s.
 # `pndt_soak --watch` samples pndt-live's RSS, file descriptors and threads every 10 s, prints
 # the figures after warm-up and loads every map file written. Not run by CI.
-#   scripts/soak_live.sh [MINUTES] [BUILD_DIR]        (BUILD_DIR default build, must exist)
+#   scripts/soak_live.sh [MINUTES] [BUILD_DIR] [PNDT-LIVE ARGS...]   (BUILD_DIR default build, must exist)
+# e.g. scripts/soak_live.sh 60 build --keep-maps 20   (the map files on disk bounded)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 MINUTES="${1:-60}"
@@ -36,7 +37,7 @@ JSON
 PORT="${PORT:-$((20000 + RANDOM % 20000))}"
 PNDT_VIRTUAL_CAMERA="$D/camera.cfg" LD_LIBRARY_PATH="$B/lib/openni2-virtual" \
   "$B/bin/pndt-live" --pose-tcp "$PORT" --pose-format tum --model "$D/model.json" --seconds "$RUN_SECONDS" \
-  --period 3 -o "$D/maps" > "$D/live.out" 2> "$D/live.err" &
+  --period 3 -o "$D/maps" "${@:3}" > "$D/live.out" 2> "$D/live.err" &
 LIVE=$!
 "$B/bin/pndt-pose-send" "$D/poses.txt" --to "127.0.0.1:$PORT" > "$D/send.out" 2>&1 &
 SEND=$!

@@ -289,18 +289,37 @@ std::vector<fs::path> mapFiles(const std::string& dir)
     return files;
 }
 
+/// Bytes of the files in `dir` (maps, PLYs, index, maps' rawlogs): what a run leaves on disk.
+uint64_t folderBytes(const std::string& dir)
+{
+    uint64_t bytes = 0;
+    if (dir.empty()) return bytes;
+    std::error_code ec;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+    {
+        std::error_code size_ec;  // a file deleted meanwhile counts as gone
+        const uint64_t size = it->is_regular_file(size_ec) ? fs::file_size(it->path(), size_ec) : 0;
+        if (!size_ec) bytes += size;
+    }
+    return bytes;
+}
+
 /// Samples process `pid` until it exits; then loads the map files in opt.maps_dir.
 bool watch(const Options& opt, std::vector<Sample>& samples)
 {
     const fs::path proc = fs::path("/proc") / std::to_string(opt.watch_pid);
     const auto t0 = std::chrono::steady_clock::now();
     const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+    uint64_t most_bytes = 0;
     for (;;)
     {
         const std::optional<Sample> s = sampleProcess(proc, elapsed());
         if (!s) break;
         samples.push_back(*s);
-        printSample(*s, fmt::format("pid {}  map files {:5d}", opt.watch_pid, mapFiles(opt.maps_dir).size()));
+        const uint64_t bytes = folderBytes(opt.maps_dir);
+        most_bytes = std::max(most_bytes, bytes);
+        printSample(*s, fmt::format("pid {}  map files {:5d}  on disk {:7.1f} MB", opt.watch_pid,
+                                    mapFiles(opt.maps_dir).size(), bytes / 1e6));
         const double next = samples.front().t + opt.sample_s * double(samples.size());
         while (elapsed() < next && fs::exists(proc / "status"))
             std::this_thread::sleep_for(std::chrono::milliseconds(200));
@@ -313,7 +332,8 @@ bool watch(const Options& opt, std::vector<Sample>& samples)
     fmt::print("\nsoak: process {} watched for {:.1f} min\n", opt.watch_pid, samples.back().t / 60);
     if (opt.maps_dir.empty()) return true;
     const std::vector<fs::path> files = mapFiles(opt.maps_dir);
-    fmt::print("{} map files in {}\n", files.size(), opt.maps_dir);
+    fmt::print("{} map files in {}; the folder held {:.1f} MB at most, {:.1f} MB at the end\n", files.size(),
+               opt.maps_dir, most_bytes / 1e6, folderBytes(opt.maps_dir) / 1e6);
     return !files.empty() && loadEach(files);
 }
 }  // namespace
