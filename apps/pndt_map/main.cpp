@@ -210,7 +210,8 @@ int main(int argc, char** argv)
                                maps.index().back().file, settings.short_term.max_voxels);
                 ++mapped;
                 labelled += p.labelled;
-                if (last) pairer.recycle(std::move(*last));  // its images take the next scan
+                // Its images take the next scan (a folder's frames are loaded afresh, never paired).
+                if (last && stream) pairer.recycle(std::move(*last));
                 last = std::move(p);
             }
             done.clear();

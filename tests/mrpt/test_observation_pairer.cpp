@@ -1,5 +1,6 @@
 // ObservationPairer's frame recycling: a frame handed back takes the next scan in its own
-// images, and nothing of what it held (labels, depth, pose, stamp) reaches the next frame.
+// images (its label images kept apart for the next labelled frame), and nothing of what it
+// held (labels, depth, pose, stamp) reaches the next frame.
 #include <gtest/gtest.h>
 #include <pndt/mrpt/observation_pairer.h>
 
@@ -65,6 +66,35 @@ TEST(ObservationPairer, ARecycledLabelledFrameLendsNoLabelsToAFrameWithout)
     EXPECT_TRUE(bare.frame.panoptic_score.empty());
     EXPECT_FLOAT_EQ(bare.frame.depth.at(0, 0), 2.5f);
     EXPECT_EQ(bare.stamp, fixtures::stamp(1));
+}
+
+TEST(ObservationPairer, LabelImagesKeptThroughAFrameWithoutLabelsServeTheNextLabelledFrame)
+{
+    ObservationPairer pairer;
+    PairedFrame first = pairOne(pairer, 0, 2.0f, true);
+    const uint16_t* semantic_pixels = first.frame.semantic.data.data();
+    const uint32_t* instance_pixels = first.frame.instance.data.data();
+    const float* score_pixels = first.frame.panoptic_score.data.data();
+    pairer.recycle(std::move(first));
+    PairedFrame bare = pairOne(pairer, 1, 2.5f, false);
+    EXPECT_FALSE(bare.frame.hasLabels());
+    // The label images were kept apart at their size, not emptied inside the frame (a vector
+    // grown back from empty zero-fills every pixel before the decode overwrites it).
+    EXPECT_EQ(bare.frame.semantic.data.capacity(), 0u);
+    EXPECT_EQ(bare.frame.panoptic_score.data.capacity(), 0u);
+    pairer.recycle(std::move(bare));  // a frame without labels leaves the kept label images alone
+    const PairedFrame third = pairOne(pairer, 2, 3.0f, true);
+    EXPECT_EQ(third.frame.semantic.data.data(), semantic_pixels);
+    EXPECT_EQ(third.frame.instance.data.data(), instance_pixels);
+    EXPECT_EQ(third.frame.panoptic_score.data.data(), score_pixels);
+    ObservationPairer fresh;
+    const PairedFrame expected = pairOne(fresh, 2, 3.0f, true);
+    EXPECT_EQ(third.frame.semantic.data, expected.frame.semantic.data);
+    EXPECT_EQ(third.frame.semantic_score.data, expected.frame.semantic_score.data);
+    EXPECT_EQ(third.frame.instance.data, expected.frame.instance.data);
+    EXPECT_EQ(third.frame.panoptic_score.data, expected.frame.panoptic_score.data);
+    EXPECT_EQ(third.frame.semantic.width, expected.frame.semantic.width);
+    EXPECT_EQ(third.frame.semantic.height, expected.frame.semantic.height);
 }
 
 TEST(ObservationPairer, ACopyPairsAsTheOriginalButTakesNoSpareFrame)

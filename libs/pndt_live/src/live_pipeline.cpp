@@ -188,6 +188,7 @@ void LivePipeline::captureLoop(const std::atomic<bool>& stop)
 void LivePipeline::segmentationLoop()
 {
     PanopticFrame frame;
+    LabelImageStash labels;  // the segmenter rewrites last frame's label images in place
     Image<seg::RgbPixel> rgb;
     for (;;)
     {
@@ -204,7 +205,9 @@ void LivePipeline::segmentationLoop()
         mrpt::obs::CObservationImage::Ptr sem, inst;
         try
         {
+            labels.takeFrom(frame);  // depthFrameFrom would empty them
             depthFrameFrom(scan, frame);
+            labels.giveTo(frame);
             seg::SegmentationInput in;
             in.K = frame.K;
             in.depth = &frame.depth;

@@ -13,6 +13,7 @@ void ObservationPairer::clear()
 {
     pending_.reset();
     spare_.reset();
+    spare_labels_ = {};
     labels_.clear();
     dropped_ = 0;
 }
@@ -44,6 +45,12 @@ bool ObservationPairer::pushScan(const CObservation3DRangeScan& scan, const Pose
     pending_ = std::move(p);
     tryComplete(done);
     return true;
+}
+
+void ObservationPairer::recycle(PairedFrame&& used)
+{
+    if (used.frame.hasLabels()) spare_labels_.takeFrom(used.frame);
+    spare_ = std::move(used);
 }
 
 bool ObservationPairer::pushLabelImage(const CObservationImage& obs, std::vector<PairedFrame>& done)
@@ -94,6 +101,7 @@ void ObservationPairer::tryComplete(std::vector<PairedFrame>& done)
         }
     }
     if (sem < 0 || inst < 0) return;
+    spare_labels_.giveTo(pending_->frame);  // decoded in place, no fill
     attachPanopticLabels(*labels_[size_t(sem)].image, *labels_[size_t(inst)].image, pending_->frame);
     labels_.erase(labels_.begin() + std::max(sem, inst));
     labels_.erase(labels_.begin() + std::min(sem, inst));

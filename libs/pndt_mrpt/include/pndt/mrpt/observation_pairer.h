@@ -7,6 +7,7 @@
 #include <mrpt/obs/CObservationImage.h>
 #include <mrpt/poses/CPose3D.h>
 #include <pndt/frame.h>
+#include <pndt/mrpt/label_image_stash.h>
 
 #include <deque>
 #include <optional>
@@ -59,6 +60,7 @@ class ObservationPairer
         labels_ = o.labels_;
         dropped_ = o.dropped_;
         spare_.reset();
+        spare_labels_ = {};
         return *this;
     }
     ObservationPairer(ObservationPairer&&) = default;
@@ -78,7 +80,9 @@ class ObservationPairer
     void flush(std::vector<PairedFrame>& done);
     /// Hands back a frame the caller is done with: the next scan is converted into its
     /// images (no allocation, no page faults per frame on a long run). One is kept.
-    void recycle(PairedFrame&& used) { spare_ = std::move(used); }
+    /// Its label images are kept apart at their size until a labelled frame takes
+    /// them: a scan starts without labels, and images grown from empty are zero-filled.
+    void recycle(PairedFrame&& used);
 
     bool hasPending() const { return pending_.has_value(); }
     uint64_t labelImagesDropped() const { return dropped_; }
@@ -100,6 +104,7 @@ class ObservationPairer
     std::deque<BufferedLabel> labels_;
     uint64_t dropped_ = 0;
     std::optional<PairedFrame> spare_;  ///< see recycle(); not copied
+    LabelImageStash spare_labels_;  ///< see recycle(); not copied
 };
 
 }  // namespace pndt
