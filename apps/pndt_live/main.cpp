@@ -351,7 +351,11 @@ int runLive(int argc, char** argv)
     }
     catch (const io::WriteError& e)
     {
-        fmt::print(stderr, "pndt-live: error: {}\n", e.what());
+        fmt::print(stderr, "pndt-live: error: {}\npndt-live: mapping stopped; the maps listed in {}/index.json are complete\n",
+                   e.what(), out_dir);
+        if (!record.empty())
+            fmt::print(stderr, "pndt-live: the recording {} holds what was written before the error (pndt-map replays "
+                               "its complete frames)\n", record);
         return kExitWriteFailed;
     }
     catch (const std::exception& e)

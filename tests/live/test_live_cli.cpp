@@ -13,7 +13,9 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <string_view>
 #include <fstream>
@@ -128,11 +130,11 @@ class LiveCli : public ::testing::Test
         fs::remove(dir / "clock.txt");
         // `timeout`: a backend that hangs (a camera gone while blocked in a read) fails the test.
         const std::string cmd = fmt::format(
-            "cd {0} && (timeout 120 env {1} {2} --pose-tcp {3} --pose-format tum -o {0}/{7} {4} > live.out 2> "
+            "cd {0} && ({10}timeout 120 env {1} {2} --pose-tcp {3} --pose-format tum -o {0}/{7} {4} > live.out 2> "
             "live.err; echo $? > live.rc) & "
             "cd {0} && {8}{5} {0}/poses.txt --to 127.0.0.1:{3} {6}{9} > send.out 2>&1; wait",
             dir.string(), env, PNDT_LIVE_EXE, port, live_args, PNDT_POSE_SEND_EXE, send_args, out_name, wait_clock,
-            offset);
+            offset, live_prefix);
         sh(cmd);
         out = slurp(dir / "live.out");
         err = slurp(dir / "live.err");
@@ -186,6 +188,7 @@ class LiveCli : public ::testing::Test
     fs::path dir;
     int port = 0;
     std::string out, err;
+    std::string live_prefix;  ///< shell commands before pndt-live, in its subshell (e.g. ulimit)
 };
 }  // namespace
 
@@ -235,6 +238,43 @@ TEST_F(LiveCli, KeepMapsLeavesOnlyTheNewestMapFiles)
     EXPECT_LE(sequences.size(), 3u) << out;
     EXPECT_EQ(sequences.back() + 1, written);
     EXPECT_EQ(sequences.back() - sequences.front() + 1, sequences.size());  // no gap
+}
+
+// A recording that meets a full disk (here a file size limit: writes fail with EFBIG as a full
+// disk fails them with ENOSPC) stops the run at once with exit code 3 and the reason; what
+// was recorded until then stays a rawlog that pndt-map replays up to its last whole frame.
+TEST_F(LiveCli, ARecordingThatMeetsAFullDiskStopsTheRunAndKeepsWhatItHolds)
+{
+    camera("");
+    live_prefix = "ulimit -f 2048; trap '' XFSZ; ";  // 2 MiB a file: ~20 frames of recording
+    ASSERT_EQ(live("--max-frames 300 --period 0.5 --record rec.rawlog"), 3) << out << err;
+    EXPECT_NE(err.find(std::string("cannot write rec.rawlog: ") + std::strerror(EFBIG)),
+              std::string::npos)
+        << err;
+    EXPECT_NE(err.find("mapping stopped; the maps listed in"), std::string::npos) << err;
+    // Stopped at once: before, the error surfaced only after all 300 frames (10 s).
+    const std::string index = slurp(dir / "live" / "index.json");
+    uint64_t mapped = 0;
+    const std::regex frames(R"("frames": (\d+))");
+    for (std::sregex_iterator m(index.begin(), index.end(), frames), end; m != end; ++m)
+        mapped += std::stoull((*m)[1]);
+    EXPECT_GE(mapped, 5u) << index;
+    EXPECT_LT(mapped, 150u) << index;
+    // The recording: at most the limit, its complete scans in time order, replayed by pndt-map
+    // (exit 2: the file ends inside an object) up to the last of them.
+    EXPECT_LE(fs::file_size(dir / "rec.rawlog"), 2048u * 1024u);
+    const auto stamps = scanStamps(dir / "rec.rawlog");
+    ASSERT_GE(stamps.size(), 5u);
+    EXPECT_TRUE(std::is_sorted(stamps.begin(), stamps.end()));
+    EXPECT_EQ(sh(fmt::format("cd {0} && {1} rec.rawlog -o {0}/replay --period 0.5 --no-progress > replay.out 2>&1",
+                             dir.string(), PNDT_MAP_EXE)),
+              2)
+        << slurp(dir / "replay.out");
+    const std::string replay = slurp(dir / "replay.out");
+    EXPECT_NE(replay.find("truncated or corrupt at object"), std::string::npos) << replay;
+    const uint64_t replayed = number(replay, R"(mapped the (\d+) frames before that point)");
+    EXPECT_GE(replayed + 1, stamps.size()) << replay;  // the last scan may wait for its labels
+    EXPECT_LE(replayed, stamps.size()) << replay;
 }
 
 TEST_F(LiveCli, CameraUnpluggedMidRunWritesTheMapAndExitsWithCode4)

@@ -1,76 +1,15 @@
 #include <fmt/format.h>
-#include <mrpt/io/CStream.h>
-#include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/datetime.h>
 #include <pndt/app/map_rawlog.h>
 #include <pndt/io/atomic_file.h>
 #include <pndt/mrpt/CObservationPanopticMap.h>
-#include <zlib.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <chrono>
-#include <climits>
-#include <cstring>
 #include <filesystem>
-#include <optional>
 
 namespace pndt::app
 {
-namespace
-{
-gzFile handle(void* p) { return static_cast<gzFile>(p); }
-
-std::string gzMessage(void* gz)
-{
-    int code = 0;
-    const char* m = gzerror(handle(gz), &code);
-    return code == Z_ERRNO ? std::strerror(errno) : std::string(m ? m : "zlib error");
-}
-
-/// The gzip file as an MRPT output stream (MRPT's CFileGZOutputStream cannot flush).
-/// MRPT's archive rethrows what Write() throws as its own exception, so the sink
-/// keeps the WriteError for run() to report as it is.
-class GzSink : public mrpt::io::CStream
-{
-   public:
-    GzSink(void* gz, const std::string& path) : gz_(gz), path_(path) {}
-    /// The next segment's file (the archive over this sink holds no state of its own).
-    void retarget(void* gz, const std::string& path)
-    {
-        gz_ = gz;
-        path_ = path;
-    }
-    size_t Write(const void* buffer, size_t count) override
-    {
-        const auto* p = static_cast<const char*>(buffer);
-        size_t done = 0;
-        while (done < count)
-        {
-            const unsigned chunk = unsigned(std::min<size_t>(count - done, size_t(INT_MAX) / 2));
-            const int put = gzwrite(handle(gz_), p + done, chunk);
-            if (put <= 0)
-            {
-                failure_ = io::WriteError(fmt::format("cannot write {}: {}", path_, gzMessage(gz_)));
-                throw *failure_;
-            }
-            done += size_t(put);
-        }
-        return count;
-    }
-    size_t Read(void*, size_t) override { throw std::logic_error(path_ + ": write-only"); }
-    uint64_t Seek(int64_t, CStream::TSeekOrigin) override { throw std::logic_error(path_ + ": cannot seek"); }
-    uint64_t getTotalBytesCount() const override { return 0; }
-    uint64_t getPosition() const override { return 0; }
-    const std::optional<io::WriteError>& failure() const { return failure_; }
-
-   private:
-    void* gz_;
-    std::string path_;
-    std::optional<io::WriteError> failure_;
-};
-}  // namespace
-
 MapRawlogWriter::MapRawlogWriter(MapRawlogOptions options) : options_(std::move(options))
 {
     if (options_.keep_maps > 0 && options_.segment_maps == 0)
@@ -93,24 +32,17 @@ void MapRawlogWriter::openFile()
         std::lock_guard<std::mutex> lock(mutex_);
         path = segmentPath(next_file_);
     }
-    const std::string mode = fmt::format("wb{}", std::clamp(options_.compression, 0, 9));
-    void* gz = gzopen(path.c_str(), mode.c_str());
-    if (!gz) throw io::WriteError(fmt::format("cannot create {}: {}", path, std::strerror(errno)));
-    gz_ = gz;
-    gz_path_ = path;
+    file_ = std::make_unique<GzRawlogFile>(path, options_.compression);
     std::lock_guard<std::mutex> lock(mutex_);
     ++next_file_;
 }
 
 void MapRawlogWriter::closeFile()
 {
-    const int rc = gzclose(handle(gz_));
-    gz_ = nullptr;
-    if (rc != Z_OK) throw io::WriteError(fmt::format("cannot close {}", gz_path_));
-    std::error_code ec;
-    const auto size = std::filesystem::file_size(gz_path_, ec);  // with the trailer
+    const auto file = std::move(file_);
+    file->close();
     std::lock_guard<std::mutex> lock(mutex_);
-    if (!ec) closed_bytes_ += size;
+    closed_bytes_ += file->bytes();
 }
 
 void MapRawlogWriter::deleteOldFiles(uint64_t maps_done)
@@ -125,7 +57,7 @@ void MapRawlogWriter::deleteOldFiles(uint64_t maps_done)
             std::lock_guard<std::mutex> lock(mutex_);
             k = first_kept_file_;
             // Only closed files: the last map of file k is (k + 1) S - 1.
-            if (k + 1 >= next_file_ + (gz_ ? 0 : 1) || (k + 1) * S > first_kept_map) return;
+            if (k + 1 >= next_file_ + (file_ ? 0 : 1) || (k + 1) * S > first_kept_map) return;
         }
         const std::string path = segmentPath(k);
         std::error_code ec;
@@ -197,8 +129,6 @@ void MapRawlogWriter::enqueue(mrpt::serialization::CSerializable::Ptr obj, bool 
 
 void MapRawlogWriter::run()
 {
-    GzSink sink(gz_, gz_path_);
-    auto archive = mrpt::serialization::archiveFrom(sink);
     uint64_t maps_done = 0;  // this thread's count (maps_ counts only what is on disk without error)
     for (;;)
     {
@@ -217,12 +147,8 @@ void MapRawlogWriter::run()
         {
             if (!error_)
             {
-                if (!gz_) openFile();  // the next segment, opened with its first object: no empty file at the end
-                sink.retarget(gz_, gz_path_);
-                archive << *item.first;
-                // Complete objects are on disk: a crash leaves a readable prefix.
-                if (gzflush(handle(gz_), Z_SYNC_FLUSH) != Z_OK)
-                    throw io::WriteError(fmt::format("cannot write {}: {}", gz_path_, gzMessage(gz_)));
+                if (!file_) openFile();  // the next segment, opened with its first object: no empty file at the end
+                file_->write(*item.first);
                 if (item.second)
                 {
                     ++maps_done;
@@ -234,7 +160,7 @@ void MapRawlogWriter::run()
         catch (...)
         {
             std::lock_guard<std::mutex> lock(mutex_);
-            if (!error_) error_ = sink.failure() ? std::make_exception_ptr(*sink.failure()) : std::current_exception();
+            if (!error_) error_ = std::current_exception();
         }
         const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         std::lock_guard<std::mutex> lock(mutex_);
@@ -243,8 +169,7 @@ void MapRawlogWriter::run()
         if (!error_)
         {
             (item.second ? maps_ : inputs_) += 1;
-            const z_off_t at = gz_ ? gzoffset(handle(gz_)) : 0;
-            if (at >= 0) bytes_ = closed_bytes_ + uint64_t(at);
+            bytes_ = closed_bytes_ + (file_ ? file_->bytes() : 0);
         }
         cv_.notify_all();
     }
@@ -272,7 +197,7 @@ void MapRawlogWriter::finish()
     }
     if (thread_.joinable()) thread_.join();
     std::exception_ptr close_error;
-    if (gz_)
+    if (file_)
     {
         try
         {

@@ -1,5 +1,7 @@
 #include <fmt/format.h>
 #include <mrpt/system/datetime.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <pndt/app/gz_rawlog_file.h>
 #include <pndt/app/map_rawlog.h>
 #include <pndt/live/live_pipeline.h>
 #include <pndt/mrpt/observation_frame.h>
@@ -7,6 +9,7 @@
 
 #include <opencv2/core/utility.hpp>
 
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <deque>
@@ -28,38 +31,71 @@ class OniGrabber : public FrameGrabber
     OniCapture& c_;
 };
 
-/// Writes observations to the recording from its own thread, in order.
+/// Writes what is recorded from its own thread, in order, each observation flushed to the
+/// file as it goes: a crash or a full disk leaves a recording that reads back (and replays
+/// with pndt-map) up to its last complete observation. A write error stops the run at once:
+/// push() rethrows it on the mapping thread.
 class Recorder
 {
    public:
-    explicit Recorder(const std::string& path) : w_(path, "RGBD", 1), path_(path)
+    explicit Recorder(const std::string& path) : file_(path, 1)
     {
         t_ = std::thread([this] { run(); });
     }
-    ~Recorder() { close(false); }
+    ~Recorder()
+    {
+        try
+        {
+            close();
+        }
+        catch (...)
+        {
+        }
+    }
     void push(mrpt::obs::CObservation::Ptr o)
     {
-        {
-            std::lock_guard<std::mutex> lk(m_);
-            q_.push_back(std::move(o));
-        }
-        cv_.notify_one();
+        std::unique_lock<std::mutex> lk(m_);
+        // A disk slower than the camera holds the mapper back (its queue then drops frames,
+        // counted) rather than growing this queue without bound.
+        cv_.wait(lk, [&] { return q_.size() < kMaxQueued || error_; });
+        if (error_) std::rethrow_exception(error_);
+        q_.push_back(std::move(o));
+        cv_.notify_all();
     }
-    /// Drains the queue; commits (renames into place) when `commit`.
-    void close(bool commit)
+    /// Writes what is queued and the gzip trailer; rethrows the first write error.
+    void close()
     {
         {
             std::lock_guard<std::mutex> lk(m_);
-            if (closed_) return;
+            if (closed_)
+            {
+                if (error_) std::rethrow_exception(error_);
+                return;
+            }
             closed_ = true;
         }
-        cv_.notify_one();
+        cv_.notify_all();
         t_.join();
-        if (!error_.empty()) throw std::runtime_error(fmt::format("recording {}: {}", path_, error_));
-        if (commit) w_.commit();
+        std::lock_guard<std::mutex> lk(m_);
+        if (!error_)
+        {
+            try
+            {
+                file_.close();
+            }
+            catch (...)
+            {
+                error_ = std::current_exception();
+            }
+        }
+        if (error_) std::rethrow_exception(error_);
     }
+    /// Range scans written whole (after close(), or while running: a lower bound).
+    uint64_t framesWritten() const { return frames_; }
+    uint64_t bytesWritten() const { return bytes_; }
 
    private:
+    static constexpr size_t kMaxQueued = 256;  // ~60 frames: a scan, two label images, poses
     void run()
     {
         for (;;)
@@ -69,23 +105,32 @@ class Recorder
             if (q_.empty() && closed_) return;
             auto o = std::move(q_.front());
             q_.pop_front();
+            const bool failed = bool(error_);
             lk.unlock();
+            cv_.notify_all();  // room in the queue
+            if (failed) continue;  // drained unwritten: the file ends where the error was
             try
             {
-                if (error_.empty()) w_.writeObservation(*o);
+                file_.write(*o);
+                if (dynamic_cast<const mrpt::obs::CObservation3DRangeScan*>(o.get())) ++frames_;
+                bytes_ = file_.bytes();
             }
-            catch (const std::exception& e)
+            catch (...)
             {
-                error_ = e.what();
+                lk.lock();
+                error_ = std::current_exception();
+                lk.unlock();
+                cv_.notify_all();
             }
         }
     }
-    RawlogFrameWriter w_;
-    std::string path_, error_;
+    app::GzRawlogFile file_;
     std::mutex m_;
     std::condition_variable cv_;
     std::deque<mrpt::obs::CObservation::Ptr> q_;
     bool closed_ = false;
+    std::exception_ptr error_;
+    std::atomic<uint64_t> frames_{0}, bytes_{0};
     std::thread t_;
 };
 }  // namespace
@@ -294,7 +339,6 @@ void LivePipeline::mapItem(Item& it, std::vector<PairedFrame>& done, const std::
     // images before the scan completed the frame before put them ahead of the map in live
     // runs where the previous frame went unlabelled.)
     emit(it.frame.scan);
-    if (q_->recorder) ++stats_.recorded_frames;
     pairer_.pushScan(*it.frame.scan, *T, done);
     integrate_done();
     if (it.semantic)
@@ -360,8 +404,8 @@ void LivePipeline::mappingLoop()
     }
     catch (...)
     {
-        q_->map_error = std::current_exception();
         std::lock_guard<std::mutex> lk(q_->m);
+        q_->map_error = std::current_exception();
         q_->to_map.clear();
     }
 }
@@ -383,7 +427,8 @@ void LivePipeline::run(const std::atomic<bool>& stop,
         if (stop) capture_stop = true;
         {
             std::lock_guard<std::mutex> lk(q_->m);
-            if (q_->capture_done && (!segmenter_ || q_->seg_done) && q_->to_map.empty()) break;
+            // After a mapping error nothing maps what capture queued before it stopped.
+            if (q_->capture_done && (!segmenter_ || q_->seg_done) && (q_->to_map.empty() || q_->map_error)) break;
             if (q_->map_error) capture_stop = true;
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -398,7 +443,18 @@ void LivePipeline::run(const std::atomic<bool>& stop,
     poses_.stop();
     map.join();
     maps_.finish();
-    if (q_->recorder) q_->recorder->close(!q_->map_error);
+    if (q_->recorder)
+    {
+        try
+        {
+            q_->recorder->close();
+        }
+        catch (...)
+        {
+            if (!q_->map_error) throw;  // else the same error, or one after the first
+        }
+        stats_.recorded_frames = q_->recorder->framesWritten();
+    }
     if (q_->map_error) std::rethrow_exception(q_->map_error);
 }
 

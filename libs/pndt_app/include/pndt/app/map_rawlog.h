@@ -13,12 +13,14 @@
 #pragma once
 
 #include <mrpt/obs/CObservation.h>
+#include <pndt/app/gz_rawlog_file.h>
 #include <pndt/mrpt/PanopticNDTMap.h>
 
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
 #include <exception>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -90,8 +92,7 @@ class MapRawlogWriter
     void deleteOldFiles(uint64_t maps_done);  // segments beyond keep_maps (writer thread)
 
     MapRawlogOptions options_;
-    void* gz_ = nullptr;  ///< gzFile, opaque to keep zlib.h out of the header
-    std::string gz_path_;  ///< the file gz_ writes
+    std::unique_ptr<GzRawlogFile> file_;  ///< the segment being written (null between segments)
     // Segments: next to open, first not yet deleted; bytes of the closed files.
     size_t next_file_ = 0, first_kept_file_ = 0;
     uint64_t closed_bytes_ = 0;

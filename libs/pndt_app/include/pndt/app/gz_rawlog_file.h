@@ -1,0 +1,48 @@
+// One rawlog file written straight to its path through zlib, each object followed by a
+// sync flush: the file on disk is always a valid rawlog up to its last complete object, so
+// a crash or a full disk leaves a truncated file whose complete objects MRPT's tools and
+// pndt-map read back. Used by maps.rawlog's writer and pndt-live's recording.
+//
+// Not thread-safe: one thread writes (the owner's writer thread).
+#pragma once
+
+#include <mrpt/serialization/CSerializable.h>
+#include <pndt/io/atomic_file.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace pndt::app
+{
+class GzRawlogFile
+{
+   public:
+    /// Creates (truncates) `path`; gzip level 0..9. Throws io::WriteError naming the file
+    /// and the reason.
+    GzRawlogFile(std::string path, int compression);
+    /// Closes the file if still open, swallowing errors (call close() to see them).
+    ~GzRawlogFile();
+    GzRawlogFile(const GzRawlogFile&) = delete;
+    GzRawlogFile& operator=(const GzRawlogFile&) = delete;
+
+    /// Serialises `obj` and flushes it to the file. Throws io::WriteError ("cannot write
+    /// PATH: No space left on device", ...); the file then ends at the last object that
+    /// was complete before this one.
+    void write(const mrpt::serialization::CSerializable& obj);
+    /// Writes the gzip trailer. Throws io::WriteError.
+    void close();
+
+    const std::string& path() const { return path_; }
+    /// Compressed bytes on disk so far (with the trailer once closed).
+    uint64_t bytes() const { return bytes_; }
+
+   private:
+    class Sink;
+    std::string path_;
+    void* gz_ = nullptr;  ///< gzFile, opaque to keep zlib.h out of the header
+    std::unique_ptr<Sink> sink_;
+    uint64_t bytes_ = 0;
+};
+
+}  // namespace pndt::app
