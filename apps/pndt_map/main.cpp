@@ -181,17 +181,17 @@ int main(int argc, char** argv)
             fmt::print("short-term maps every {} {}, warm-up {:.0f}%\n", settings.short_term.period,
                        settings.short_term.period_in_frames ? "frames" : "s", settings.short_term.warmup * 100);
 
-        // ---- replay
-        ShortTermMaps maps(factory, settings.short_term);
-        std::optional<FramePoseRefinement> refinement = refine_cli.make(settings);  // issue #22: against the localiser's errors
-        ObservationPairer pairer;
-        pairer.options = prototype->insertionOptions;
+        // ---- replay (the input opened first: one that is missing leaves no output behind)
         std::optional<ReadAheadStream> stream;  // decoding overlaps with mapping
         std::optional<DatasetSource> source;
         if (folder)
             source.emplace(input, dataset);
         else
             stream.emplace(input);
+        ShortTermMaps maps(factory, settings.short_term);
+        std::optional<FramePoseRefinement> refinement = refine_cli.make(settings);  // issue #22: against the localiser's errors
+        ObservationPairer pairer;
+        pairer.options = prototype->insertionOptions;
         ProgressBar bar("pndt-map", !no_progress);
         std::vector<PairedFrame> done;
         uint64_t scans = 0, mapped = 0, labelled = 0, no_pose = 0, other_sensor = 0;

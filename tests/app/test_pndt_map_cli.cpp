@@ -219,6 +219,22 @@ TEST(PndtMapCli, TruncatedRawlogMapsWhatItCouldAndSaysWhere)
     EXPECT_FALSE(m->isEmpty());
 }
 
+// A missing input is named, and nothing is left in the output folder (before, an empty
+// maps.rawlog was: the outputs were opened before the input).
+TEST(PndtMapCli, AMissingInputIsNamedAndLeavesNoOutput)
+{
+    const fs::path out = tempDir("missing");
+    fs::create_directories(out / "empty_folder");  // a dataset folder without depth/
+    for (const std::string& input : {(out / "none.rawlog").string(), (out / "empty_folder").string()})
+    {
+        const std::string args = input.find("folder") != std::string::npos ? " --input-format redwood" : "";
+        const RunResult r = run(mapExe() + input + args + " -o " + (out / "m").string());
+        EXPECT_EQ(r.code, 1) << r.out;
+        EXPECT_NE(r.out.find(input), std::string::npos) << r.out;
+        EXPECT_TRUE(!fs::exists(out / "m") || fs::is_empty(out / "m")) << input;
+    }
+}
+
 TEST(PndtMapCli, PoseProblemsAreReportedOrCounted)
 {
     const fs::path out = tempDir("poses");
