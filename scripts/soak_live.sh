@@ -7,6 +7,7 @@
 # the figures after warm-up and loads every map file written. Not run by CI.
 #   scripts/soak_live.sh [MINUTES] [BUILD_DIR] [PNDT-LIVE ARGS...]   (BUILD_DIR default build, must exist)
 # e.g. scripts/soak_live.sh 60 build --keep-maps 20   (the map files on disk bounded)
+# MODEL=models/centernet_coco.json (scripts/get_models.sh) runs the real COCO detector instead.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 MINUTES="${1:-60}"
@@ -34,9 +35,10 @@ cat > "$D/model.json" <<JSON
  "classes": ["void", "wall", "chair", "table"],
  "postprocess": {"center_threshold": 0.1, "nms_kernel": 3, "top_k": 8, "offset_order": "yx", "offset_scale": 2}}
 JSON
+MODEL="$(realpath "${MODEL:-$D/model.json}")"
 PORT="${PORT:-$((20000 + RANDOM % 20000))}"
 PNDT_VIRTUAL_CAMERA="$D/camera.cfg" LD_LIBRARY_PATH="$B/lib/openni2-virtual" \
-  "$B/bin/pndt-live" --pose-tcp "$PORT" --pose-format tum --model "$D/model.json" --seconds "$RUN_SECONDS" \
+  "$B/bin/pndt-live" --pose-tcp "$PORT" --pose-format tum --model "$MODEL" --seconds "$RUN_SECONDS" \
   --period 3 -o "$D/maps" "${@:3}" > "$D/live.out" 2> "$D/live.err" &
 LIVE=$!
 "$B/bin/pndt-pose-send" "$D/poses.txt" --to "127.0.0.1:$PORT" > "$D/send.out" 2>&1 &
