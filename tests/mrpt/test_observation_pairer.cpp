@@ -27,6 +27,17 @@ PairedFrame pairOne(ObservationPairer& pairer, double t, float depth_m, bool lab
     EXPECT_EQ(done.size(), 1u);
     return std::move(done.front());
 }
+
+/// The four label images of `got` hold what a fresh pairer's frame (`expected`) holds.
+void expectSameLabels(const PanopticFrame& got, const PanopticFrame& expected)
+{
+    EXPECT_EQ(got.semantic.width, expected.semantic.width);
+    EXPECT_EQ(got.semantic.height, expected.semantic.height);
+    EXPECT_EQ(got.semantic.data, expected.semantic.data);
+    EXPECT_EQ(got.semantic_score.data, expected.semantic_score.data);
+    EXPECT_EQ(got.instance.data, expected.instance.data);
+    EXPECT_EQ(got.panoptic_score.data, expected.panoptic_score.data);
+}
 }  // namespace
 
 TEST(ObservationPairer, ARecycledFrameTakesTheNextScanInItsOwnImages)
@@ -46,10 +57,7 @@ TEST(ObservationPairer, ARecycledFrameTakesTheNextScanInItsOwnImages)
     ObservationPairer fresh;
     const PairedFrame expected = pairOne(fresh, 1, 3.0f, true);
     EXPECT_EQ(second.frame.depth.data, expected.frame.depth.data);
-    EXPECT_EQ(second.frame.semantic.data, expected.frame.semantic.data);
-    EXPECT_EQ(second.frame.semantic_score.data, expected.frame.semantic_score.data);
-    EXPECT_EQ(second.frame.instance.data, expected.frame.instance.data);
-    EXPECT_EQ(second.frame.panoptic_score.data, expected.frame.panoptic_score.data);
+    expectSameLabels(second.frame, expected.frame);
     EXPECT_EQ(second.stamp, expected.stamp);
     EXPECT_FLOAT_EQ(second.frame.depth.at(5, 5), 3.0f);
 }
@@ -89,12 +97,7 @@ TEST(ObservationPairer, LabelImagesKeptThroughAFrameWithoutLabelsServeTheNextLab
     EXPECT_EQ(third.frame.panoptic_score.data.data(), score_pixels);
     ObservationPairer fresh;
     const PairedFrame expected = pairOne(fresh, 2, 3.0f, true);
-    EXPECT_EQ(third.frame.semantic.data, expected.frame.semantic.data);
-    EXPECT_EQ(third.frame.semantic_score.data, expected.frame.semantic_score.data);
-    EXPECT_EQ(third.frame.instance.data, expected.frame.instance.data);
-    EXPECT_EQ(third.frame.panoptic_score.data, expected.frame.panoptic_score.data);
-    EXPECT_EQ(third.frame.semantic.width, expected.frame.semantic.width);
-    EXPECT_EQ(third.frame.semantic.height, expected.frame.semantic.height);
+    expectSameLabels(third.frame, expected.frame);
 }
 
 TEST(ObservationPairer, ACopyPairsAsTheOriginalButTakesNoSpareFrame)

@@ -254,7 +254,7 @@ double MapRawlogWriter::secondsWriting() const
 std::string rawlogFilesNote(const MapRawlogWriter& w)
 {
     const size_t files = w.filesWritten(), deleted = w.filesDeleted();
-    if (w.segmentPath(0) == w.path()) return {};
+    if (!w.segmented()) return {};
     namespace fs = std::filesystem;
     const auto name = [&](size_t k) { return fs::path(w.segmentPath(k)).filename().string(); };
     std::string note = files - deleted == 1 ? " in " + name(deleted)

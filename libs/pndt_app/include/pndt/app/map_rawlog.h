@@ -70,6 +70,8 @@ class MapRawlogWriter
     void finish();
 
     const std::string& path() const { return options_.path; }
+    /// Cut into files of segment_maps maps (segmentPath(k)), not one file at path().
+    bool segmented() const { return options_.segment_maps > 0; }
     /// The file of segment k (path() itself without segments).
     std::string segmentPath(size_t k) const;
     /// Files opened so far (1 without segments) and, of them, deleted (keep_maps).
