@@ -249,7 +249,9 @@ int runLive(int argc, char** argv)
         }
         std::optional<FramePoseRefinement> refinement = refine_cli.make(settings);  // as pndt-map --refine (issue #22)
 
-        std::filesystem::create_directories(out_dir);
+        io::ensureDirectory(out_dir);
+        if (const auto folder = std::filesystem::path(record).parent_path(); !record.empty() && !folder.empty())
+            io::ensureDirectory(folder.string());  // before any output: nothing is left if it cannot be
         ShortTermMaps maps(factory, settings.short_term);
         LiveOptions lo;
         lo.pose_wait = pose_wait;
@@ -315,7 +317,13 @@ int runLive(int argc, char** argv)
         if (trim.runs > 0)
             fmt::print("heap               : freed memory handed back {} times, {:.2f} ms at most\n", trim.runs,
                        trim.longest_ms);
-        if (!record.empty()) fmt::print("recording          : {} ({} frames)\n", record, s.recorded_frames);
+        if (!record.empty())
+        {
+            std::error_code ec;
+            const auto bytes = std::filesystem::file_size(record, ec);
+            fmt::print("recording          : {} ({} frames{})\n", record, s.recorded_frames,
+                       ec ? std::string() : fmt::format(", {:.1f} MB", bytes / 1e6));
+        }
         if (const MapRawlogWriter* r = maps.rawlog())
             fmt::print("maps.rawlog        : {} maps + {} input observations{}, {:.1f} MB written\n",
                        r->mapsWritten(), r->inputsWritten(), rawlogFilesNote(*r), r->bytesWritten() / 1e6);

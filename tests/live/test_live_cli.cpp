@@ -201,6 +201,8 @@ TEST_F(LiveCli, MapsTheVirtualCameraAndEqualsTheOfflineReplayOfItsRecording)
     EXPECT_EQ(captured, 75u);
     EXPECT_EQ(mapped, captured) << out;  // nothing dropped or skipped: poses were all there
     EXPECT_NE(out.find("capture"), std::string::npos);
+    // Every frame written whole to the recording (counted as written, not as queued).
+    EXPECT_EQ(number(out, R"(recording\s+: rec.rawlog \((\d+) frames, [0-9.]+ MB\))"), 75u);
     expectReplayEqualsLive(mapped, "--period 1", 2);
 }
 
@@ -243,12 +245,13 @@ TEST_F(LiveCli, KeepMapsLeavesOnlyTheNewestMapFiles)
 // A recording that meets a full disk (here a file size limit: writes fail with EFBIG as a full
 // disk fails them with ENOSPC) stops the run at once with exit code 3 and the reason; what
 // was recorded until then stays a rawlog that pndt-map replays up to its last whole frame.
+// (Its folder, rec/, does not exist: pndt-live creates it.)
 TEST_F(LiveCli, ARecordingThatMeetsAFullDiskStopsTheRunAndKeepsWhatItHolds)
 {
     camera("");
     live_prefix = "ulimit -f 2048; trap '' XFSZ; ";  // 2 MiB a file: ~20 frames of recording
-    ASSERT_EQ(live("--max-frames 300 --period 0.5 --record rec.rawlog"), 3) << out << err;
-    EXPECT_NE(err.find(std::string("cannot write rec.rawlog: ") + std::strerror(EFBIG)),
+    ASSERT_EQ(live("--max-frames 300 --period 0.5 --record rec/rec.rawlog"), 3) << out << err;
+    EXPECT_NE(err.find(std::string("cannot write rec/rec.rawlog: ") + std::strerror(EFBIG)),
               std::string::npos)
         << err;
     EXPECT_NE(err.find("mapping stopped; the maps listed in"), std::string::npos) << err;
@@ -262,11 +265,11 @@ TEST_F(LiveCli, ARecordingThatMeetsAFullDiskStopsTheRunAndKeepsWhatItHolds)
     EXPECT_LT(mapped, 150u) << index;
     // The recording: at most the limit, its complete scans in time order, replayed by pndt-map
     // (exit 2: the file ends inside an object) up to the last of them.
-    EXPECT_LE(fs::file_size(dir / "rec.rawlog"), 2048u * 1024u);
-    const auto stamps = scanStamps(dir / "rec.rawlog");
+    EXPECT_LE(fs::file_size(dir / "rec" / "rec.rawlog"), 2048u * 1024u);
+    const auto stamps = scanStamps(dir / "rec" / "rec.rawlog");
     ASSERT_GE(stamps.size(), 5u);
     EXPECT_TRUE(std::is_sorted(stamps.begin(), stamps.end()));
-    EXPECT_EQ(sh(fmt::format("cd {0} && {1} rec.rawlog -o {0}/replay --period 0.5 --no-progress > replay.out 2>&1",
+    EXPECT_EQ(sh(fmt::format("cd {0} && {1} rec/rec.rawlog -o {0}/replay --period 0.5 --no-progress > replay.out 2>&1",
                              dir.string(), PNDT_MAP_EXE)),
               2)
         << slurp(dir / "replay.out");
