@@ -249,7 +249,8 @@ TEST_F(LiveCli, KeepMapsLeavesOnlyTheNewestMapFiles)
 TEST_F(LiveCli, ARecordingThatMeetsAFullDiskStopsTheRunAndKeepsWhatItHolds)
 {
     camera("");
-    live_prefix = "ulimit -f 2048; trap '' XFSZ; ";  // 2 MiB a file: ~20 frames of recording
+    // /bin/sh (dash, or bash as sh) counts 512-byte blocks: 2 MiB a file, ~14 frames of recording.
+    live_prefix = "ulimit -f 4096; trap '' XFSZ; ";
     ASSERT_EQ(live("--max-frames 300 --period 0.5 --record rec/rec.rawlog"), 3) << out << err;
     EXPECT_NE(err.find(std::string("cannot write rec/rec.rawlog: ") + std::strerror(EFBIG)),
               std::string::npos)
@@ -265,7 +266,7 @@ TEST_F(LiveCli, ARecordingThatMeetsAFullDiskStopsTheRunAndKeepsWhatItHolds)
     EXPECT_LT(mapped, 150u) << index;
     // The recording: at most the limit, its complete scans in time order, replayed by pndt-map
     // (exit 2: the file ends inside an object) up to the last of them.
-    EXPECT_LE(fs::file_size(dir / "rec" / "rec.rawlog"), 2048u * 1024u);
+    EXPECT_LE(fs::file_size(dir / "rec" / "rec.rawlog"), 4096u * 512u);
     const auto stamps = scanStamps(dir / "rec" / "rec.rawlog");
     ASSERT_GE(stamps.size(), 5u);
     EXPECT_TRUE(std::is_sorted(stamps.begin(), stamps.end()));
@@ -278,6 +279,25 @@ TEST_F(LiveCli, ARecordingThatMeetsAFullDiskStopsTheRunAndKeepsWhatItHolds)
     const uint64_t replayed = number(replay, R"(mapped the (\d+) frames before that point)");
     EXPECT_GE(replayed + 1, stamps.size()) << replay;  // the last scan may wait for its labels
     EXPECT_LE(replayed, stamps.size()) << replay;
+}
+
+// The maps' own files meeting a full disk (a 1 MiB file size limit: maps.rawlog, which holds
+// every map, meets it within a few maps) stop the run too: exit 3 naming the file and the reason,
+// the maps listed in index.json load. (Before, pndt-live never ended after a mapping error.)
+TEST_F(LiveCli, MapsThatMeetAFullDiskStopTheRunWithTheReason)
+{
+    camera("");
+    live_prefix = "ulimit -f 2048; trap '' XFSZ; ";  // 512-byte blocks
+    ASSERT_EQ(live("--max-frames 300 --period 0.3"), 3) << out << err;
+    EXPECT_NE(err.find(std::string(": ") + std::strerror(EFBIG)), std::string::npos) << err;
+    EXPECT_NE(err.find("mapping stopped; the maps listed in"), std::string::npos) << err;
+    const std::string index = slurp(dir / "live" / "index.json");
+    const std::regex file(R"re("file": "(map_\d+\.pndt\.gz)")re");
+    size_t listed = 0;
+    for (std::sregex_iterator m(index.begin(), index.end(), file), end; m != end; ++m, ++listed)
+        EXPECT_GT(pndt::loadMapArchive((dir / "live" / (*m)[1].str()).string())->core().voxels().size(), 0u);
+    EXPECT_GE(listed, 1u) << index;
+    EXPECT_LT(listed, 20u) << index;  // 300 frames at 0.3 s would make 33
 }
 
 TEST_F(LiveCli, CameraUnpluggedMidRunWritesTheMapAndExitsWithCode4)
