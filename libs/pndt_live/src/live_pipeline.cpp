@@ -92,7 +92,6 @@ class Recorder
     }
     /// Range scans written whole (after close(), or while running: a lower bound).
     uint64_t framesWritten() const { return frames_; }
-    uint64_t bytesWritten() const { return bytes_; }
 
    private:
     static constexpr size_t kMaxQueued = 256;  // ~60 frames: a scan, two label images, poses
@@ -113,7 +112,6 @@ class Recorder
             {
                 file_.write(*o);
                 if (dynamic_cast<const mrpt::obs::CObservation3DRangeScan*>(o.get())) ++frames_;
-                bytes_ = file_.bytes();
             }
             catch (...)
             {
@@ -130,7 +128,7 @@ class Recorder
     std::deque<mrpt::obs::CObservation::Ptr> q_;
     bool closed_ = false;
     std::exception_ptr error_;
-    std::atomic<uint64_t> frames_{0}, bytes_{0};
+    std::atomic<uint64_t> frames_{0};
     std::thread t_;
 };
 }  // namespace
