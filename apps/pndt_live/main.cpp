@@ -99,6 +99,16 @@ int runLive(int argc, char** argv)
     app.add_option("--up", up, "gravity up in the poses' world frame, 'x y z' (segmentation)");
     app.add_option("--record", record, "write what was seen (depth, colour, labels, poses) as a rawlog; "
                                        "`pndt-map RECORD` rebuilds the same maps");
+    double record_minutes = 0;
+    size_t record_keep = 0;
+    app.add_option("--record-minutes", record_minutes,
+                   "cut the recording into files of this many minutes of sensor time (REC.rawlog -> REC-0000.rawlog, "
+                   "REC-0001.rawlog, ...; `pndt-map REC-*.rawlog` replays them in order)")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--record-keep", record_keep,
+                   "keep only the newest N files of the recording, deleting older ones (a black box of the last N x "
+                   "--record-minutes minutes)")
+        ->check(CLI::PositiveNumber);
     app.add_option("--max-frames", max_frames, "stop after this many captured frames (0 = until Ctrl-C)");
     app.add_option("--seconds", seconds, "stop after this many seconds (0 = until Ctrl-C)");
     app.add_option("-o,--out", out_dir, "output folder (as pndt-map)")->capture_default_str();
@@ -118,9 +128,37 @@ int runLive(int argc, char** argv)
     RefineCli refine_cli;  // as pndt-map's
     refine_cli.addTo(app);
     CLI11_PARSE(app, argc, argv);
+    if ((record_minutes > 0 || record_keep > 0) && record.empty())
+    {
+        fmt::print(stderr, "pndt-live: error: --record-minutes and --record-keep need --record\n");
+        return kExitError;
+    }
+    if (record_keep > 0 && record_minutes <= 0)
+    {
+        fmt::print(stderr, "pndt-live: error: --record-keep needs --record-minutes (the files it keeps)\n");
+        return kExitError;
+    }
+    // The recording as messages name it: "rec-NNNN.rawlog" once it is cut into files.
+    const std::filesystem::path record_path(record);
+    const std::string record_name =
+        record_minutes > 0
+            ? (record_path.parent_path() / (record_path.stem().string() + "-NNNN" + record_path.extension().string()))
+                  .string()
+            : record;
+    // A cut recording never overwrites an earlier one (after a crash it may be all there is of it).
+    if (record_minutes > 0)
+        if (const auto earlier = numberedRawlogsOf(record); !earlier.empty())
+        {
+            fmt::print(stderr, "pndt-live: error: {} is there from an earlier recording ({} files); give another "
+                               "--record name or move them\n",
+                       earlier.front(), earlier.size());
+            return kExitError;
+        }
 
     std::signal(SIGINT, onSignal);
     std::signal(SIGTERM, onSignal);
+    // What an output error leaves behind: nothing before these are set.
+    bool maps_started = false, recording_started = false;
     try
     {
         if (list_devices)
@@ -253,6 +291,7 @@ int runLive(int argc, char** argv)
         if (const auto folder = std::filesystem::path(record).parent_path(); !record.empty() && !folder.empty())
             io::ensureDirectory(folder.string());  // before any output: nothing is left if it cannot be
         ShortTermMaps maps(factory, settings.short_term);
+        maps_started = true;
         LiveOptions lo;
         lo.pose_wait = pose_wait;
         // MRPT's own stamp is the host clock at its read: taken as the frame's stamp.
@@ -263,9 +302,12 @@ int runLive(int argc, char** argv)
         lo.camera_pose = settings.camera_pose.value_or(mrpt::poses::CPose3D());
         lo.max_frames = max_frames;
         lo.record = record;
+        lo.record_minutes = record_minutes;
+        lo.record_keep = record_keep;
         lo.grab_timeout = grab_timeout;
         lo.label_wait = label_wait;
         LivePipeline pipeline(*grabber, segmenter.get(), poses, maps, prototype->insertionOptions, lo);
+        recording_started = !record.empty();
 
         fmt::print("pndt-live: {}\n", camera_text);
         fmt::print("poses     : ");
@@ -273,7 +315,7 @@ int runLive(int argc, char** argv)
         fmt::print("{} lines, {} frame\n", pose_format, pf == PoseFrame::Camera ? "camera" : "robot");
         fmt::print("labels    : {}\n", segmenter ? segmenter->describe() : "none (geometry only, no --model)");
         fmt::print("map       : {}; outputs in {}{}\n", prototype->asString(), out_dir,
-                   record.empty() ? "" : "; recording " + record);
+                   record.empty() ? "" : "; recording " + record_name);
         std::fflush(stdout);
 
         const auto t0 = std::chrono::steady_clock::now();
@@ -319,10 +361,16 @@ int runLive(int argc, char** argv)
                        trim.longest_ms);
         if (!record.empty())
         {
-            std::error_code ec;
-            const auto bytes = std::filesystem::file_size(record, ec);
-            fmt::print("recording          : {} ({} frames{})\n", record, s.recorded_frames,
-                       ec ? std::string() : fmt::format(", {:.1f} MB", bytes / 1e6));
+            const auto name = [&](uint64_t k) { return std::filesystem::path(numberedRawlogPath(record, k)).filename().string(); };
+            const uint64_t files = s.recorded_files, deleted = s.recorded_files_deleted;
+            const std::string where =
+                record_minutes <= 0 ? record
+                : files - deleted == 1
+                    ? numberedRawlogPath(record, deleted)
+                    : fmt::format("{} .. {}", numberedRawlogPath(record, deleted), name(files - 1));
+            fmt::print("recording          : {} ({} frames, {:.1f} MB{})\n", where, s.recorded_frames,
+                       s.recorded_bytes / 1e6,
+                       deleted ? fmt::format("; the {} older files deleted", deleted) : std::string());
         }
         if (const MapRawlogWriter* r = maps.rawlog())
             fmt::print("maps.rawlog        : {} maps + {} input observations{}, {:.1f} MB written\n",
@@ -359,11 +407,12 @@ int runLive(int argc, char** argv)
     }
     catch (const io::WriteError& e)
     {
-        fmt::print(stderr, "pndt-live: error: {}\npndt-live: mapping stopped; the maps listed in {}/index.json are complete\n",
-                   e.what(), out_dir);
-        if (!record.empty())
+        fmt::print(stderr, "pndt-live: error: {}\n", e.what());
+        if (maps_started)
+            fmt::print(stderr, "pndt-live: mapping stopped; the maps listed in {}/index.json are complete\n", out_dir);
+        if (recording_started)
             fmt::print(stderr, "pndt-live: the recording {} holds what was written before the error (pndt-map replays "
-                               "its complete frames)\n", record);
+                               "its complete frames)\n", record_name);
         return kExitWriteFailed;
     }
     catch (const std::exception& e)

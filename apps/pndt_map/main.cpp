@@ -75,7 +75,8 @@ size_t peakRssBytes()
 int main(int argc, char** argv)
 {
     CLI::App app{"pndt-map: replay a rawlog into short-term panoptic NDT maps"};
-    std::string input, out_dir = "out/map", poses, pose_format;
+    std::vector<std::string> inputs;
+    std::string out_dir = "out/map", poses, pose_format;
     std::vector<std::string> presets;
     std::vector<std::string> configs, sets;
     double period = -1, voxel_size = 0;
@@ -83,9 +84,10 @@ int main(int argc, char** argv)
     bool no_progress = false, view = false;
     std::string screenshot, mesh_screenshot;
     DatasetOptions dataset;
-    app.add_option("input", input,
-                   "rawlog (CObservation3DRangeScan + panoptic CObservationImages [+ CObservationRobotPose]), or a "
-                   "dataset folder with --input-format")
+    app.add_option("input", inputs,
+                   "rawlog (CObservation3DRangeScan + panoptic CObservationImages [+ CObservationRobotPose]); several "
+                   "rawlogs are replayed one after the other, in time order (a recording cut into files: "
+                   "rec-*.rawlog); or a dataset folder with --input-format")
         ->required();
     app.add_option("--input-format", dataset.format, "dataset folder: redwood, tum or nicr")
         ->check(CLI::IsMember({"redwood", "tum", "nicr"}));
@@ -157,9 +159,14 @@ int main(int argc, char** argv)
         const auto prototype = factory();
 
         // ---- poses from the external localiser
-        const bool folder = fs::is_directory(input);
+        const bool folder = fs::is_directory(inputs[0]);
         if (folder && dataset.format.empty())
-            throw std::runtime_error(input + " is a folder: give --input-format redwood, tum or nicr");
+            throw std::runtime_error(inputs[0] + " is a folder: give --input-format redwood, tum or nicr");
+        if (folder && inputs.size() > 1) throw std::runtime_error("give one dataset folder, or rawlogs only");
+        // The input as messages name it: "rec-0000.rawlog .. rec-0003.rawlog (4 files)" for several.
+        const std::string input = inputs.size() == 1 ? inputs[0]
+                                                     : fmt::format("{} .. {} ({} files)", inputs.front(), inputs.back(),
+                                                                   inputs.size());
         std::optional<PoseTrack> track;
         if (settings.pose_source == "file")
             track = PoseTrack::fromFile(settings.pose_file, io::parsePoseFormat(settings.pose_format),
@@ -187,7 +194,7 @@ int main(int argc, char** argv)
         if (folder)
             source.emplace(input, dataset);
         else
-            stream.emplace(input);
+            stream.emplace(inputs);
         ShortTermMaps maps(factory, settings.short_term);
         std::optional<FramePoseRefinement> refinement = refine_cli.make(settings);  // issue #22: against the localiser's errors
         ObservationPairer pairer;

@@ -1,6 +1,7 @@
 // ObservationStream on damaged rawlogs: wherever a file is cut, reading stops
 // with a message naming the file and the object, never with libjpeg's exit().
 // ReadAheadStream: the same observations and stop reason, read on a thread.
+// RawlogSequence: several files read as one, in time order.
 #include <gtest/gtest.h>
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
@@ -8,6 +9,7 @@
 #include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/serialization/CArchive.h>
 #include <pndt/app/observation_stream.h>
+#include <pndt/app/rawlog_sequence.h>
 #include <pndt/app/read_ahead_stream.h>
 
 #include <cstring>
@@ -21,8 +23,10 @@ namespace fs = std::filesystem;
 
 namespace
 {
-/// Two frames (robot pose + scan with a JPEG-compressed colour image).
-std::string writeColourRawlog(const fs::path& path)
+/// Two frames (robot pose + scan with a JPEG-compressed colour image) at t0 and t0 + 1 s;
+/// with `repeated_pose` >= 0 a robot pose stamped then comes first (as a recording cut into
+/// files repeats at a file's start the poses an earlier file holds).
+std::string writeColourRawlog(const fs::path& path, double t0 = 100.0, double repeated_pose = -1)
 {
     // MRPT 2.5 stores colour images raw unless told otherwise (as pndt-convert does).
     const bool was_disabled = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
@@ -30,10 +34,16 @@ std::string writeColourRawlog(const fs::path& path)
     {
         mrpt::io::CFileGZOutputStream out(path.string());
         auto ar = mrpt::serialization::archiveFrom(out);
+        if (repeated_pose >= 0)
+        {
+            mrpt::obs::CObservationRobotPose pose;
+            pose.timestamp = mrpt::Clock::fromDouble(repeated_pose);
+            ar << pose;
+        }
         for (int k = 0; k < 2; ++k)
         {
             mrpt::obs::CObservationRobotPose pose;
-            pose.timestamp = mrpt::Clock::fromDouble(100.0 + k);
+            pose.timestamp = mrpt::Clock::fromDouble(t0 + k);
             ar << pose;
             mrpt::obs::CObservation3DRangeScan scan;
             scan.timestamp = pose.timestamp;
@@ -256,5 +266,94 @@ TEST(ReadAheadStream, ProgressFollowsTheObservationsHandedOut)
     }
     EXPECT_FALSE(in.next());
     EXPECT_DOUBLE_EQ(in.progress(), 1.0);
+    fs::remove_all(dir);
+}
+
+namespace
+{
+/// Class name and stamp of every observation, in order.
+template <class Stream>
+std::vector<std::pair<std::string, double>> readAll(Stream& in)
+{
+    std::vector<std::pair<std::string, double>> out;
+    while (auto o = in.next()) out.emplace_back(o->GetRuntimeClass()->className, mrpt::Clock::toDouble(o->timestamp));
+    return out;
+}
+}  // namespace
+
+// A recording cut into files (pndt-live --record-minutes) read as one: every file's
+// observations in turn; poses a file repeats from the one before are skipped; progress
+// counts all files' bytes; files out of time order, missing or damaged are named.
+TEST(RawlogSequence, ReadsFilesInTurnSkipsRepeatedPosesAndNamesWhatIsWrong)
+{
+    const fs::path dir = fs::temp_directory_path() / ("pndt_rawlog_sequence_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string a = (dir / "rec-0000.rawlog").string(), b = (dir / "rec-0001.rawlog").string();
+    const std::string first_bytes = writeColourRawlog(a, 100.0);
+    writeColourRawlog(b, 102.0, 101.0);  // starts with the pose at 101 s that a already holds
+    {
+        pndt::app::RawlogSequence seq({a, b});
+        std::vector<std::pair<std::string, double>> got;
+        double last_progress = 0;
+        while (auto o = seq.next())
+        {
+            got.emplace_back(o->GetRuntimeClass()->className, mrpt::Clock::toDouble(o->timestamp));
+            EXPECT_GE(seq.progress(), last_progress);
+            last_progress = seq.progress();
+            if (got.size() == 4) EXPECT_LT(seq.progress(), 0.75) << "one file of two read";
+        }
+        const std::vector<std::pair<std::string, double>> expected = {
+            {"mrpt::obs::CObservationRobotPose", 100.0}, {"mrpt::obs::CObservation3DRangeScan", 100.0},
+            {"mrpt::obs::CObservationRobotPose", 101.0}, {"mrpt::obs::CObservation3DRangeScan", 101.0},
+            {"mrpt::obs::CObservationRobotPose", 102.0}, {"mrpt::obs::CObservation3DRangeScan", 102.0},
+            {"mrpt::obs::CObservationRobotPose", 103.0}, {"mrpt::obs::CObservation3DRangeScan", 103.0}};
+        EXPECT_EQ(got, expected);
+        EXPECT_FALSE(seq.truncated());
+        EXPECT_DOUBLE_EQ(seq.progress(), 1.0);
+        EXPECT_EQ(seq.path(), b);
+    }
+    // b on its own keeps its first pose (a replay of the newest files of a black box).
+    {
+        pndt::app::ObservationStream alone(b);
+        ASSERT_EQ(readAll(alone).size(), 5u);
+    }
+    // The wrong order (or one file twice): refused at the second file's first scan, naming both.
+    for (const auto& files : {std::vector<std::string>{b, a}, std::vector<std::string>{a, a}})
+    {
+        pndt::app::RawlogSequence seq(files);
+        try
+        {
+            while (seq.next())
+            {
+            }
+            ADD_FAILURE() << "files out of time order were read";
+        }
+        catch (const std::runtime_error& e)
+        {
+            const std::string msg = e.what();
+            EXPECT_NE(msg.find(files[1] + ": its first depth frame (t=1"), std::string::npos) << msg;
+            EXPECT_NE(msg.find("is not later than the last one of " + files[0]), std::string::npos) << msg;
+        }
+    }
+    // A missing file is named before anything is read.
+    try
+    {
+        pndt::app::RawlogSequence seq({a, (dir / "rec-0002.rawlog").string()});
+        ADD_FAILURE() << "a missing file was not named";
+    }
+    catch (const std::runtime_error& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("rec-0002.rawlog: no such file"), std::string::npos) << e.what();
+    }
+    // A damaged file ends the sequence there: what it holds, then its reason; b is not read.
+    const std::string cut = (dir / "cut.rawlog").string();
+    std::ofstream(cut, std::ios::binary).write(first_bytes.data(), std::streamsize(first_bytes.size() * 3 / 4));
+    pndt::app::ObservationStream cut_alone(cut);
+    const auto before_cut = readAll(cut_alone);
+    pndt::app::ReadAheadStream seq(std::vector<std::string>{cut, b}, 2);
+    EXPECT_EQ(readAll(seq), before_cut);
+    EXPECT_TRUE(seq.truncated());
+    EXPECT_EQ(seq.stopReason(), cut_alone.stopReason());
+    EXPECT_EQ(seq.stopReason().rfind(cut, 0), 0u) << seq.stopReason();
     fs::remove_all(dir);
 }

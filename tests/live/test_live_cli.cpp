@@ -141,13 +141,13 @@ class LiveCli : public ::testing::Test
         return std::stoi(slurp(dir / "live.rc"));
     }
     /// `pndt-map rec.rawlog` (with `map_args`) gives the very maps and maps.rawlog pndt-live wrote
-    /// in live/ while recording rec.rawlog.
+    /// in live/ while recording rec.rawlog (or the files `recording` names, in dir).
     void expectReplayEqualsLive(uint64_t mapped, const std::string& map_args, size_t min_maps,
-                                const std::string& live_dir = "live")
+                                const std::string& live_dir = "live", const std::string& recording = "rec.rawlog")
     {
-        ASSERT_TRUE(fs::exists(dir / "rec.rawlog"));
-        ASSERT_EQ(sh(fmt::format("cd {0} && {1} rec.rawlog -o {0}/replay {2} --no-progress > replay.out 2>&1",
-                                 dir.string(), PNDT_MAP_EXE, map_args)),
+        if (recording == "rec.rawlog") ASSERT_TRUE(fs::exists(dir / "rec.rawlog"));
+        ASSERT_EQ(sh(fmt::format("cd {0} && {1} {3} -o {0}/replay {2} --no-progress > replay.out 2>&1",
+                                 dir.string(), PNDT_MAP_EXE, map_args, recording)),
                   0)
             << slurp(dir / "replay.out");
         const std::string replay = slurp(dir / "replay.out");
@@ -204,6 +204,95 @@ TEST_F(LiveCli, MapsTheVirtualCameraAndEqualsTheOfflineReplayOfItsRecording)
     // Every frame written whole to the recording (counted as written, not as queued).
     EXPECT_EQ(number(out, R"(recording\s+: rec.rawlog \((\d+) frames, [0-9.]+ MB\))"), 75u);
     expectReplayEqualsLive(mapped, "--period 1", 2);
+}
+
+/// The rawlogs in `folder` whose names start with `stem`, sorted.
+std::vector<std::string> rawlogsOf(const fs::path& folder, const std::string& stem)
+{
+    std::vector<std::string> files;
+    for (const auto& e : fs::directory_iterator(folder))
+        if (e.path().extension() == ".rawlog" && e.path().filename().string().rfind(stem, 0) == 0)
+            files.push_back(e.path().filename());
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+// --record-minutes cuts the recording between frames into files that are each a whole rawlog
+// (closed with their gzip trailer); `pndt-map rec-*.rawlog` replays them as one, giving the very
+// maps pndt-live made. Given out of order, pndt-map names both files.
+TEST_F(LiveCli, ARecordingCutIntoFilesReplaysAsOneInTimeOrder)
+{
+    camera("");
+    // 0.57 s of sensor time a file: 18 frames at 30 fps (a cut at a frame 0.6 s after the
+    // file's first), 75 frames in five files.
+    ASSERT_EQ(live("--max-frames 75 --period 1 --record rec.rawlog --record-minutes 0.0095"), 0) << out << err;
+    const uint64_t mapped = number(out, R"(frames mapped\s+: (\d+))");
+    ASSERT_EQ(mapped, 75u) << out;
+    const auto files = rawlogsOf(dir, "rec");
+    EXPECT_EQ(files, (std::vector<std::string>{"rec-0000.rawlog", "rec-0001.rawlog", "rec-0002.rawlog",
+                                                "rec-0003.rawlog", "rec-0004.rawlog"}));
+    EXPECT_EQ(number(out, R"(recording\s+: rec-0000.rawlog .. rec-0004.rawlog \((\d+) frames, [0-9.]+ MB\))"), 75u);
+    std::vector<double> all;
+    for (const auto& f : files)
+    {
+        EXPECT_EQ(sh(fmt::format("gzip -t {}", (dir / f).string())), 0) << f << " is not a whole gzip file";
+        const auto t = scanStamps(dir / f);
+        EXPECT_EQ(t.size(), f == files.back() ? 3u : 18u) << f;
+        all.insert(all.end(), t.begin(), t.end());
+    }
+    EXPECT_EQ(all.size(), 75u);
+    EXPECT_TRUE(std::is_sorted(all.begin(), all.end()));
+    expectReplayEqualsLive(mapped, "--period 1", 2, "live", "rec-*.rawlog");
+    // The same files in the wrong order: refused, naming both, before any map is made.
+    EXPECT_EQ(sh(fmt::format("cd {0} && {1} rec-0001.rawlog rec-0000.rawlog -o {0}/wrong --no-progress > wrong.out "
+                             "2>&1",
+                             dir.string(), PNDT_MAP_EXE)),
+              1);
+    const std::string wrong = slurp(dir / "wrong.out");
+    EXPECT_NE(wrong.find("rec-0000.rawlog: its first depth frame"), std::string::npos) << wrong;
+    EXPECT_NE(wrong.find("is not later than the last one of rec-0001.rawlog"), std::string::npos) << wrong;
+}
+
+// --record-keep N: a black box of the newest N files, the older ones deleted as new ones open.
+// Each file starts with the poses its frames need (here the localiser sent all its poses at
+// once, so they all went into the first file): what is left replays on its own, every frame in it.
+TEST_F(LiveCli, RecordKeepLeavesABlackBoxOfTheNewestFilesThatReplaysOnItsOwn)
+{
+    camera("");
+    ASSERT_EQ(live("--max-frames 75 --period 1 --record box/rec.rawlog --record-minutes 0.0095 --record-keep 2"), 0)
+        << out << err;
+    const auto files = rawlogsOf(dir / "box", "rec");
+    EXPECT_EQ(files, (std::vector<std::string>{"rec-0003.rawlog", "rec-0004.rawlog"}));
+    EXPECT_NE(out.find("recording          : box/rec-0003.rawlog .. rec-0004.rawlog (75 frames"), std::string::npos)
+        << out;
+    EXPECT_NE(out.find("the 3 older files deleted"), std::string::npos) << out;
+    uint64_t kept_bytes = 0;
+    for (const auto& f : files) kept_bytes += fs::file_size(dir / "box" / f);
+    EXPECT_NEAR(double(number(out, R"(75 frames, (\d+)\.\d MB)")), kept_bytes / 1e6, 1.0) << out;
+    ASSERT_EQ(sh(fmt::format("cd {0} && {1} box/rec-*.rawlog -o {0}/replay --period 1 --no-progress > replay.out 2>&1",
+                             dir.string(), PNDT_MAP_EXE)),
+              0)
+        << slurp(dir / "replay.out");
+    EXPECT_EQ(number(slurp(dir / "replay.out"), R"(frames mapped\s+: (\d+))"), 18u + 3u) << slurp(dir / "replay.out");
+    // Each file on its own too.
+    ASSERT_EQ(sh(fmt::format("cd {0} && {1} box/rec-0004.rawlog -o {0}/last --no-progress > last.out 2>&1",
+                             dir.string(), PNDT_MAP_EXE)),
+              0)
+        << slurp(dir / "last.out");
+    EXPECT_EQ(number(slurp(dir / "last.out"), R"(frames mapped\s+: (\d+))"), 3u);
+    // The options are checked.
+    EXPECT_EQ(sh(fmt::format("cd {} && {} --record-keep 2 --record rec.rawlog > opts.out 2>&1", dir.string(),
+                             PNDT_LIVE_EXE)),
+              1);
+    EXPECT_NE(slurp(dir / "opts.out").find("--record-keep needs --record-minutes"), std::string::npos)
+        << slurp(dir / "opts.out");
+    // The black box is never overwritten by the next run under the same name.
+    EXPECT_EQ(sh(fmt::format("cd {} && {} --record box/rec.rawlog --record-minutes 1 > again.out 2>&1", dir.string(),
+                             PNDT_LIVE_EXE)),
+              1);
+    EXPECT_NE(slurp(dir / "again.out").find("box/rec-0003.rawlog is there from an earlier recording (2 files)"),
+              std::string::npos)
+        << slurp(dir / "again.out");
 }
 
 // A robot mapping all day: --keep-maps leaves only the newest map files on disk, each listed in
@@ -298,6 +387,19 @@ TEST_F(LiveCli, MapsThatMeetAFullDiskStopTheRunWithTheReason)
         EXPECT_GT(pndt::loadMapArchive((dir / "live" / (*m)[1].str()).string())->core().voxels().size(), 0u);
     EXPECT_GE(listed, 1u) << index;
     EXPECT_LT(listed, 20u) << index;  // 300 frames at 0.3 s would make 33
+}
+
+// An output folder that cannot be made (a file is in its way) is named, with no word of maps
+// that were never started (the message once said the maps in its index.json were complete).
+TEST_F(LiveCli, AnOutputFolderThatCannotBeMadeIsNamedAndNothingElseIsClaimed)
+{
+    camera("");
+    std::ofstream(dir / "blocked") << "a file, not a folder\n";
+    ASSERT_EQ(live("--max-frames 5 --record rec.rawlog", "--rate 0", false, "blocked/live"), 3) << out << err;
+    EXPECT_NE(err.find("blocked/live"), std::string::npos) << err;
+    EXPECT_EQ(err.find("index.json"), std::string::npos) << err;
+    EXPECT_EQ(err.find("the recording"), std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(dir / "rec.rawlog"));
 }
 
 TEST_F(LiveCli, CameraUnpluggedMidRunWritesTheMapAndExitsWithCode4)

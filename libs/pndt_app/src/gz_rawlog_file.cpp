@@ -106,4 +106,31 @@ void GzRawlogFile::close()
     if (!ec) bytes_ = size;
 }
 
+std::string numberedRawlogPath(const std::string& path, size_t k)
+{
+    const std::filesystem::path p(path);
+    return (p.parent_path() / fmt::format("{}-{:04d}{}", p.stem().string(), k, p.extension().string())).string();
+}
+
+std::vector<std::string> numberedRawlogsOf(const std::string& path)
+{
+    const std::filesystem::path p(path);
+    const std::filesystem::path folder = p.parent_path().empty() ? "." : p.parent_path();
+    const std::string stem = p.stem().string() + "-", ext = p.extension().string();
+    std::vector<std::string> found;
+    std::error_code ec;
+    for (std::filesystem::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec))
+    {
+        const std::string name = it->path().filename().string();
+        if (name.size() < stem.size() + 4 + ext.size() || name.compare(0, stem.size(), stem) != 0 ||
+            name.compare(name.size() - ext.size(), ext.size(), ext) != 0)
+            continue;
+        const std::string number = name.substr(stem.size(), name.size() - stem.size() - ext.size());
+        if (std::all_of(number.begin(), number.end(), [](char c) { return c >= '0' && c <= '9'; }))
+            found.push_back((p.parent_path() / name).string());
+    }
+    std::sort(found.begin(), found.end());
+    return found;
+}
+
 }  // namespace pndt::app

@@ -20,9 +20,7 @@ MapRawlogWriter::MapRawlogWriter(MapRawlogOptions options) : options_(std::move(
 
 std::string MapRawlogWriter::segmentPath(size_t k) const
 {
-    if (options_.segment_maps == 0) return options_.path;
-    const std::filesystem::path p(options_.path);
-    return (p.parent_path() / fmt::format("{}-{:04d}{}", p.stem().string(), k, p.extension().string())).string();
+    return options_.segment_maps == 0 ? options_.path : numberedRawlogPath(options_.path, k);
 }
 
 void MapRawlogWriter::openFile()

@@ -3,7 +3,12 @@
 namespace pndt::app
 {
 ReadAheadStream::ReadAheadStream(const std::string& path, size_t depth)
-    : in_(path), depth_(std::max<size_t>(1, depth)), reader_([this] { readLoop(); })
+    : ReadAheadStream(std::vector<std::string>{path}, depth)
+{
+}
+
+ReadAheadStream::ReadAheadStream(std::vector<std::string> paths, size_t depth)
+    : in_(std::move(paths)), depth_(std::max<size_t>(1, depth)), reader_([this] { readLoop(); })
 {
 }
 

@@ -7,6 +7,8 @@
 #include <pndt/mrpt/observation_frame.h>
 #include <pndt/mrpt/rawlog_frames.h>
 
+#include "recorder.h"
+
 #include <opencv2/core/utility.hpp>
 
 #include <atomic>
@@ -31,106 +33,6 @@ class OniGrabber : public FrameGrabber
     OniCapture& c_;
 };
 
-/// Writes what is recorded from its own thread, in order, each observation flushed to the
-/// file as it goes: a crash or a full disk leaves a recording that reads back (and replays
-/// with pndt-map) up to its last complete observation. A write error stops the run at once:
-/// push() rethrows it on the mapping thread.
-class Recorder
-{
-   public:
-    explicit Recorder(const std::string& path) : file_(path, 1)
-    {
-        t_ = std::thread([this] { run(); });
-    }
-    ~Recorder()
-    {
-        try
-        {
-            close();
-        }
-        catch (...)
-        {
-        }
-    }
-    void push(mrpt::obs::CObservation::Ptr o)
-    {
-        std::unique_lock<std::mutex> lk(m_);
-        // A disk slower than the camera holds the mapper back (its queue then drops frames,
-        // counted) rather than growing this queue without bound.
-        cv_.wait(lk, [&] { return q_.size() < kMaxQueued || error_; });
-        if (error_) std::rethrow_exception(error_);
-        q_.push_back(std::move(o));
-        cv_.notify_all();
-    }
-    /// Writes what is queued and the gzip trailer; rethrows the first write error.
-    void close()
-    {
-        {
-            std::lock_guard<std::mutex> lk(m_);
-            if (closed_)
-            {
-                if (error_) std::rethrow_exception(error_);
-                return;
-            }
-            closed_ = true;
-        }
-        cv_.notify_all();
-        t_.join();
-        std::lock_guard<std::mutex> lk(m_);
-        if (!error_)
-        {
-            try
-            {
-                file_.close();
-            }
-            catch (...)
-            {
-                error_ = std::current_exception();
-            }
-        }
-        if (error_) std::rethrow_exception(error_);
-    }
-    /// Range scans written whole (after close(), or while running: a lower bound).
-    uint64_t framesWritten() const { return frames_; }
-
-   private:
-    static constexpr size_t kMaxQueued = 256;  // ~60 frames: a scan, two label images, poses
-    void run()
-    {
-        for (;;)
-        {
-            std::unique_lock<std::mutex> lk(m_);
-            cv_.wait(lk, [&] { return closed_ || !q_.empty(); });
-            if (q_.empty() && closed_) return;
-            auto o = std::move(q_.front());
-            q_.pop_front();
-            const bool failed = bool(error_);
-            lk.unlock();
-            cv_.notify_all();  // room in the queue
-            if (failed) continue;  // drained unwritten: the file ends where the error was
-            try
-            {
-                file_.write(*o);
-                if (dynamic_cast<const mrpt::obs::CObservation3DRangeScan*>(o.get())) ++frames_;
-            }
-            catch (...)
-            {
-                lk.lock();
-                error_ = std::current_exception();
-                lk.unlock();
-                cv_.notify_all();
-            }
-        }
-    }
-    app::GzRawlogFile file_;
-    std::mutex m_;
-    std::condition_variable cv_;
-    std::deque<mrpt::obs::CObservation::Ptr> q_;
-    bool closed_ = false;
-    std::exception_ptr error_;
-    std::atomic<uint64_t> frames_{0};
-    std::thread t_;
-};
 }  // namespace
 
 std::unique_ptr<FrameGrabber> grabberOf(OniCapture& c) { return std::make_unique<OniGrabber>(c); }
@@ -165,7 +67,8 @@ LivePipeline::LivePipeline(FrameGrabber& grabber, seg::Segmenter* segmenter, Liv
       q_(std::make_unique<Queues>())
 {
     pairer_.options = pairing;
-    if (!o_.record.empty()) q_->recorder = std::make_unique<Recorder>(o_.record);
+    if (!o_.record.empty())
+        q_->recorder = std::make_unique<Recorder>(RecorderOptions{o_.record, o_.record_minutes * 60, o_.record_keep});
 }
 
 LivePipeline::~LivePipeline() = default;
@@ -319,6 +222,7 @@ void LivePipeline::mapItem(Item& it, std::vector<PairedFrame>& done, const std::
         if (q_->recorder) q_->recorder->push(o);
         if (o_.rawlog_inputs && maps_.rawlog()) maps_.rawlog()->addInput(o);
     };
+    if (q_->recorder) q_->recorder->startFrame(it.t);  // a recording cut into files ends only between frames
     for (auto& p : poses_.take())
     {
         emit(p);
@@ -452,6 +356,9 @@ void LivePipeline::run(const std::atomic<bool>& stop,
             if (!q_->map_error) throw;  // else the same error, or one after the first
         }
         stats_.recorded_frames = q_->recorder->framesWritten();
+        stats_.recorded_files = q_->recorder->filesOpened();
+        stats_.recorded_files_deleted = q_->recorder->filesDeleted();
+        stats_.recorded_bytes = q_->recorder->bytesKept();
     }
     if (q_->map_error) std::rethrow_exception(q_->map_error);
 }

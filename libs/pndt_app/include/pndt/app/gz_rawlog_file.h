@@ -9,9 +9,11 @@
 #include <mrpt/serialization/CSerializable.h>
 #include <pndt/io/atomic_file.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace pndt::app
 {
@@ -44,5 +46,11 @@ class GzRawlogFile
     std::unique_ptr<Sink> sink_;
     uint64_t bytes_ = 0;
 };
+
+/// File k of a rawlog cut into files: maps.rawlog -> maps-0000.rawlog, maps-0001.rawlog, ...
+/// (the numbers sort in time order as text up to 9999).
+std::string numberedRawlogPath(const std::string& path, size_t k);
+/// The files numbered after `path` that exist (maps-0000.rawlog, maps-0001.rawlog, ...), sorted.
+std::vector<std::string> numberedRawlogsOf(const std::string& path);
 
 }  // namespace pndt::app

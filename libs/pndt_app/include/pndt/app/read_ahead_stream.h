@@ -3,7 +3,7 @@
 // time on real rawlogs) overlap with mapping on another core.
 #pragma once
 
-#include <pndt/app/observation_stream.h>
+#include <pndt/app/rawlog_sequence.h>
 
 #include <condition_variable>
 #include <deque>
@@ -19,6 +19,8 @@ class ReadAheadStream
     /// Opens `path` (throws like ObservationStream) and starts reading ahead,
     /// at most `depth` observations.
     explicit ReadAheadStream(const std::string& path, size_t depth = 16);
+    /// Several rawlogs read one after the other (throws like RawlogSequence).
+    explicit ReadAheadStream(std::vector<std::string> paths, size_t depth = 16);
     /// Stops the reader (after the observation it is decoding) and joins it.
     ~ReadAheadStream();
     ReadAheadStream(const ReadAheadStream&) = delete;
@@ -30,15 +32,15 @@ class ReadAheadStream
     mrpt::obs::CObservation::Ptr next();
     bool truncated() const;
     const std::string& stopReason() const;
-    /// Fraction of the file up to the end of the observation next() returned
+    /// Fraction of the file(s) up to the end of the observation next() returned
     /// last (not of what the reader has read ahead).
     double progress() const;
-    const std::string& path() const { return in_.path(); }
+    const std::vector<std::string>& paths() const { return in_.paths(); }
 
    private:
     void readLoop();
 
-    ObservationStream in_;  ///< the reader thread's alone once it runs
+    RawlogSequence in_;  ///< the reader thread's alone once it runs
     const size_t depth_;
     mutable std::mutex mutex_;
     std::condition_variable changed_;

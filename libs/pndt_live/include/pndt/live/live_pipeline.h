@@ -58,6 +58,11 @@ struct LiveOptions
     double grab_timeout = 3.0;     ///< seconds without a frame = camera lost
     uint64_t max_frames = 0;       ///< stop after this many captured frames (0 = until stopped)
     std::string record;            ///< rawlog of what was seen (empty = none)
+    /// Cut the recording into files of this many minutes of sensor time (0 = one file):
+    /// rec.rawlog -> rec-0000.rawlog, rec-0001.rawlog, ..., cut between frames.
+    double record_minutes = 0;
+    /// With record_minutes: keep only the newest record_keep files (0 = all): a black box.
+    size_t record_keep = 0;
     /// Interleave what is recorded (poses, scans, labels: what a replay of the recording reads,
     /// in its order) with the maps in the short-term maps' maps.rawlog, as pndt-map's
     /// maps_rawlog_inputs does with its input.
@@ -71,6 +76,9 @@ struct LiveStats
 {
     std::atomic<uint64_t> captured{0}, segmented{0}, labelled{0}, seg_dropped{0}, mapping_dropped{0}, mapped{0},
         pose_wait_skipped{0}, no_pose_skipped{0}, recorded_frames{0}, seg_errors{0}, label_late{0};
+    /// The recording, set once run() ends: files opened, of them deleted (record_keep), and
+    /// the compressed bytes of those kept.
+    std::atomic<uint64_t> recorded_files{0}, recorded_files_deleted{0}, recorded_bytes{0};
     std::atomic<bool> camera_lost{false}, camera_unplugged{false};
     std::string camera_error;  ///< set once before camera_lost
 };
