@@ -361,7 +361,9 @@ int runLive(int argc, char** argv)
                        trim.longest_ms);
         if (!record.empty())
         {
-            const auto name = [&](uint64_t k) { return std::filesystem::path(numberedRawlogPath(record, k)).filename().string(); };
+            const auto name = [&](uint64_t k) {
+                return std::filesystem::path(numberedRawlogPath(record, k)).filename().string();
+            };
             const uint64_t files = s.recorded_files, deleted = s.recorded_files_deleted;
             const std::string where =
                 record_minutes <= 0 ? record

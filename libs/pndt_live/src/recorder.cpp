@@ -33,7 +33,10 @@ std::string Recorder::filePath(size_t k) const
     return cut() ? app::numberedRawlogPath(options_.path, k) : options_.path;
 }
 
-void Recorder::startFrame(double t) { enqueue(nullptr, t); }
+void Recorder::startFrame(double t)
+{
+    if (cut()) enqueue(nullptr, t);
+}
 
 void Recorder::push(mrpt::obs::CObservation::Ptr o) { enqueue(std::move(o), 0); }
 

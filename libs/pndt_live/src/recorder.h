@@ -70,7 +70,7 @@ class Recorder
     uint64_t bytesKept() const { return bytes_kept_; }
 
    private:
-    static constexpr size_t kMaxQueued = 256;  // ~60 frames: a scan, two label images, poses
+    static constexpr size_t kMaxQueued = 256;  // ~50 frames: a scan, two label images, poses, a frame start
     void enqueue(mrpt::obs::CObservation::Ptr o, double frame_t);
     void run();
     void write(const mrpt::obs::CObservation::Ptr& o, double frame_t);  // writer thread
