@@ -347,8 +347,9 @@ int runLive(int argc, char** argv)
         fmt::print("frames mapped      : {} ({:.1f} fps; {} labelled = {:.0f}% of captured, the rest geometry only)\n",
                    s.mapped, s.mapped / wall, s.labelled, s.captured ? 100.0 * s.labelled / s.captured : 0.0);
         fmt::print("frames skipped     : {} waited {:.2f} s for a pose in vain, {} without a pose within {} s, {} "
-                   "dropped because mapping was behind\n",
-                   s.pose_wait_skipped, pose_wait, s.no_pose_skipped, settings.pose_max_gap, s.mapping_dropped);
+                   "dropped because mapping was behind, {} dropped with a stamp not after the frame before\n",
+                   s.pose_wait_skipped, pose_wait, s.no_pose_skipped, settings.pose_max_gap, s.mapping_dropped,
+                   s.stamp_back_dropped);
         fmt::print("segmentation       : {} frames labelled, {} went on unlabelled (segmentation behind), {} labels "
                    "too late for the mapper (> {} s), {} errors\n",
                    s.labelled, s.seg_dropped, s.label_late, label_wait, s.seg_errors);

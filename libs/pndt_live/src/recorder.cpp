@@ -112,6 +112,7 @@ void Recorder::write(const mrpt::obs::CObservation::Ptr& o, double frame_t)
         if (!cut()) return;
         const auto stamp = [](const mrpt::obs::CObservation::Ptr& p) { return mrpt::Clock::toDouble(p->timestamp); };
         while (recent_poses_.size() > 1 && stamp(recent_poses_[1]) <= frame_t) recent_poses_.pop_front();
+        // Frame times only grow: the capture drops a frame not after the one before.
         if (file_start_t_ < 0) file_start_t_ = frame_t;
         if (frame_t - file_start_t_ >= options_.part_seconds)
         {

@@ -187,7 +187,8 @@ class VirtualStream : public oni::driver::StreamBase
                                                         : static_cast<const void*>(s_->frames.rgb[i].data());
             std::memcpy(f->data, src, size_t(W) * H * bpp);
             f->frameIndex = int(k + 1);
-            f->timestamp = uint64_t(k) * 1000000ull / uint64_t(c.fps);
+            const int64_t clock_k = c.clock_reset_after > 0 && k >= c.clock_reset_after ? k - c.clock_reset_after : k;
+            f->timestamp = uint64_t(clock_k) * 1000000ull / uint64_t(c.fps);
             f->videoMode = mode();
             f->width = W;
             f->height = H;

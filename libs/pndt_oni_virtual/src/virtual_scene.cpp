@@ -56,6 +56,7 @@ VirtualCameraConfig VirtualCameraConfig::fromFile(const std::string& path)
         else if (key == "eye_height") ok = bool(v >> c.eye_height);
         else if (key == "unplug_after") ok = bool(v >> c.unplug_after);
         else if (key == "freeze_after") ok = bool(v >> c.freeze_after);
+        else if (key == "clock_reset_after") ok = bool(v >> c.clock_reset_after);
         else if (key == "serial") c.serial = value;
         else if (key == "uri") c.uri = value;
         else if (key == "pose_seconds") ok = bool(v >> c.pose_seconds);

@@ -55,7 +55,7 @@ struct LiveOptions
     /// working on it); then the frame is mapped geometry-only and its late labels are dropped.
     double label_wait = 0.25;
     int segmentation_threads = 1;  ///< OpenCV threads of the segmentation (0 = OpenCV's default)
-    double grab_timeout = 3.0;     ///< seconds without a frame = camera lost
+    double grab_timeout = 3.0;     ///< seconds without a frame (or one after the last frame's stamp) = camera lost
     uint64_t max_frames = 0;       ///< stop after this many captured frames (0 = until stopped)
     std::string record;            ///< rawlog of what was seen (empty = none)
     /// Cut the recording into files of this many minutes of sensor time (0 = one file):
@@ -75,7 +75,8 @@ struct LiveOptions
 struct LiveStats
 {
     std::atomic<uint64_t> captured{0}, segmented{0}, labelled{0}, seg_dropped{0}, mapping_dropped{0}, mapped{0},
-        pose_wait_skipped{0}, no_pose_skipped{0}, recorded_frames{0}, seg_errors{0}, label_late{0};
+        pose_wait_skipped{0}, no_pose_skipped{0}, recorded_frames{0}, seg_errors{0}, label_late{0},
+        stamp_back_dropped{0};  ///< frames not after the frame before (dropped at capture)
     /// The recording, set once run() ends: files opened, of them deleted (record_keep), and
     /// the compressed bytes of those kept.
     std::atomic<uint64_t> recorded_files{0}, recorded_files_deleted{0}, recorded_bytes{0};

@@ -25,6 +25,9 @@ struct VirtualCameraConfig
     double eye_height = 1.5;
     int unplug_after = 0;      ///< frames after which the device reports itself unplugged (0 = never)
     int freeze_after = 0;      ///< frames after which the streams go silent, nothing reported (0 = never)
+    /// Frame from which the device clock starts again at 0, as after a firmware reset: frame
+    /// k >= clock_reset_after is stamped (k - clock_reset_after) / fps (0 = never).
+    int clock_reset_after = 0;
     std::string serial = "PNDT0001";
     std::string uri = "pndt://virtual/0";
     double pose_seconds = 120; ///< length of the TUM pose file writeTrajectoryTum writes
