@@ -27,6 +27,7 @@
 #include <deque>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "dataset_source.h"
 #include "mapper_settings.h"
@@ -201,7 +202,22 @@ int main(int argc, char** argv)
         pairer.options = prototype->insertionOptions;
         ProgressBar bar("pndt-map", !no_progress);
         std::vector<PairedFrame> done;
-        uint64_t scans = 0, mapped = 0, labelled = 0, no_pose = 0, other_sensor = 0;
+        uint64_t scans = 0, mapped = 0, labelled = 0, no_pose = 0, other_sensor = 0, not_after = 0;
+        // Poses are looked up and maps handed over by frame time: a depth frame stamped no
+        // later than the one before (a camera clock that started again) is skipped, counted.
+        double last_scan_t = -std::numeric_limits<double>::infinity();
+        const auto inTimeOrder = [&](double t) {
+            if (t > last_scan_t)
+            {
+                last_scan_t = t;
+                return true;
+            }
+            if (not_after++ == 0)
+                fmt::print(stderr, "\npndt-map: {}: depth frame {} at t={:.6f} s is not after the frame before "
+                           "(t={:.6f} s; a camera clock reset?): frames out of time order are skipped and counted\n",
+                           input, scans, t, last_scan_t);
+            return false;
+        };
         std::optional<PairedFrame> last;
         const auto integrateDone = [&] {
             for (PairedFrame& p : done)
@@ -255,6 +271,7 @@ int main(int argc, char** argv)
             std::optional<Pose> own;
             source->load(i, p.frame, t, own);
             ++scans;
+            if (!inTimeOrder(t)) continue;
             const auto T = track ? track->cameraAt(t, settings.camera_pose.value_or(mrpt::poses::CPose3D())) : own;
             if (!T)
             {
@@ -283,6 +300,7 @@ int main(int argc, char** argv)
                     continue;
                 }
                 ++scans;
+                if (!inTimeOrder(mrpt::Clock::toDouble(scan->timestamp))) continue;
                 if (poses_in_stream)
                 {
                     waiting.push_back(scan);
@@ -357,8 +375,9 @@ int main(int argc, char** argv)
         const FrameStats& st = maps.totals();
         const uint64_t labels_orphaned = pairer.labelImagesDropped() + pairer.labelImagesWaiting();
         fmt::print("\nframes mapped      : {} ({} with labels, {} geometry only)\n", mapped, labelled, mapped - labelled);
-        fmt::print("frames skipped     : {} without a pose within {} s, {} of other sensors\n", no_pose,
-                   settings.pose_max_gap, other_sensor);
+        fmt::print("frames skipped     : {} without a pose within {} s, {} of other sensors, {} stamped no later "
+                   "than the frame before\n",
+                   no_pose, settings.pose_max_gap, other_sensor, not_after);
         fmt::print("label images       : {} without a matching depth frame\n", labels_orphaned);
         fmt::print("pixels skipped     : {} invalid depth, {} beyond max range\n", st.skipped_invalid_depth,
                    st.skipped_over_range);

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
 #include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/serialization/CArchive.h>
 #include <nlohmann/json.hpp>
@@ -405,6 +406,35 @@ TEST(PndtMapCli, PaperPresetBuildsAMapWithThePapersRulesAndLayersWithHypersim)
     const RunResult bad = run(mapExe() + roomRawlog().string() + " -o " + out.string() + " --preset papers");
     EXPECT_NE(bad.code, 0);
     EXPECT_NE(bad.out.find("papers"), std::string::npos) << bad.out;
+}
+
+TEST(PndtMapCli, ADepthFrameStampedBeforeTheFrameBeforeIsSkippedAndCounted)
+{
+    const fs::path out = tempDir("stamp_back");
+    RunResult r = run(mapExe() + roomRawlog().string() + " -o " + (out / "ref").string());
+    ASSERT_EQ(r.code, 0) << r.out;
+    // Frame 5 again (its scan and label images) just before frame 31's scan, as a camera whose
+    // clock started again would stamp it: mapped with frame 5's pose it would add its
+    // surfaces a second time; skipped, the map is the reference's, bit for bit.
+    const fs::path again = rewrittenRoom(out / "again.rawlog", [](auto& obs) {
+        std::vector<size_t> scans;
+        for (size_t i = 0; i < obs.size(); ++i)
+            if (std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(obs[i])) scans.push_back(i);
+        ASSERT_GE(scans.size(), 32u);
+        std::vector<mrpt::obs::CObservation::Ptr> copy;
+        for (size_t i = scans[5]; i < obs.size() && obs[i]->timestamp == obs[scans[5]]->timestamp; ++i)
+            copy.push_back(obs[i]);
+        ASSERT_EQ(copy.size(), 3u);  // the scan and its two label images
+        obs.insert(obs.begin() + long(scans[31]), copy.begin(), copy.end());
+    });
+    r = run(mapExe() + again.string() + " -o " + (out / "again").string());
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("again.rawlog: depth frame 32 at t="), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("is not after the frame before (t="), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("frames mapped      : 40 (40 with labels"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(", 1 stamped no later than the frame before"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("label images       : 2 without a matching depth frame"), std::string::npos) << r.out;
+    EXPECT_TRUE(mapBytes(out / "again") == mapBytes(out / "ref")) << "the map differs from the reference";
 }
 
 TEST(PndtMapCli, LabelImagesWithoutDepthAreCounted)
