@@ -10,12 +10,12 @@
 
 namespace pndt::app
 {
-MapRawlogWriter::MapRawlogWriter(MapRawlogOptions options) : options_(std::move(options))
+MapRawlogWriter::MapRawlogWriter(MapRawlogOptions options)
+    : options_(std::move(options)), writer_(options_.max_queued, [this](Item& item) { write(item); })
 {
     if (options_.keep_maps > 0 && options_.segment_maps == 0)
         throw std::invalid_argument("maps rawlog: keep_maps needs segment_maps (one file cannot drop its oldest maps)");
     openFile();  // the first file now, so a folder we cannot write to is reported at once
-    thread_ = std::thread([this] { run(); });
 }
 
 std::string MapRawlogWriter::segmentPath(size_t k) const
@@ -103,7 +103,7 @@ void MapRawlogWriter::mappedUpTo(double t) { release(t); }
 void MapRawlogWriter::addMap(const PanopticNDTMap::Ptr& map, double t_start, double t_end, uint64_t frames,
                              uint32_t sequence)
 {
-    rethrowError();
+    writer_.rethrowError();
     release(t_end);
     auto o = CObservationPanopticMap::Create();
     o->sensorLabel = options_.sensor_label;
@@ -117,105 +117,52 @@ void MapRawlogWriter::addMap(const PanopticNDTMap::Ptr& map, double t_start, dou
 
 void MapRawlogWriter::enqueue(mrpt::serialization::CSerializable::Ptr obj, bool is_map)
 {
-    std::unique_lock<std::mutex> lock(mutex_);
     if (finished_) throw std::logic_error("MapRawlogWriter: object added after finish()");
-    cv_.wait(lock, [&] { return queue_.size() < options_.max_queued || error_; });
-    if (error_) return;  // reported by addMap() / finish()
-    queue_.emplace_back(std::move(obj), is_map);
-    cv_.notify_all();
+    writer_.push({std::move(obj), is_map});  // after an error: dropped, reported by addMap() / finish()
 }
 
-void MapRawlogWriter::run()
+void MapRawlogWriter::write(const Item& item)
 {
-    uint64_t maps_done = 0;  // this thread's count (maps_ counts only what is on disk without error)
-    for (;;)
+    if (!file_) openFile();  // the next segment, opened with its first object: no empty file at the end
+    file_->write(*item.first);
+    if (item.second)
     {
-        std::pair<mrpt::serialization::CSerializable::Ptr, bool> item;
-        {
-            std::unique_lock<std::mutex> lock(mutex_);
-            cv_.wait(lock, [&] { return !queue_.empty() || closing_; });
-            if (queue_.empty()) return;  // closing and drained
-            item = std::move(queue_.front());
-            queue_.pop_front();
-            busy_ = true;
-            cv_.notify_all();
-        }
-        const auto t0 = std::chrono::steady_clock::now();
-        try
-        {
-            if (!error_)
-            {
-                if (!file_) openFile();  // the next segment, opened with its first object: no empty file at the end
-                file_->write(*item.first);
-                if (item.second)
-                {
-                    ++maps_done;
-                    if (options_.segment_maps > 0 && maps_done % options_.segment_maps == 0) closeFile();
-                    deleteOldFiles(maps_done);
-                }
-            }
-        }
-        catch (...)
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            if (!error_) error_ = std::current_exception();
-        }
-        const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        std::lock_guard<std::mutex> lock(mutex_);
-        busy_ = false;
-        seconds_ += dt;
-        if (!error_)
-        {
-            (item.second ? maps_ : inputs_) += 1;
-            bytes_ = closed_bytes_ + (file_ ? file_->bytes() : 0);
-        }
-        cv_.notify_all();
+        ++maps_done_;
+        if (options_.segment_maps > 0 && maps_done_ % options_.segment_maps == 0) closeFile();
+        deleteOldFiles(maps_done_);
     }
+    std::lock_guard<std::mutex> lock(mutex_);
+    (item.second ? maps_ : inputs_) += 1;
+    bytes_ = closed_bytes_ + (file_ ? file_->bytes() : 0);
 }
 
 void MapRawlogWriter::finish()
 {
+    if (!finished_)
     {
+        while (!held_.empty())
+        {
+            enqueue(held_.front(), false);
+            held_.pop_front();
+        }
+        finished_ = true;
+        writer_.close();
+        if (file_)
+        {
+            try
+            {
+                closeFile();
+            }
+            catch (...)
+            {
+                close_error_ = std::current_exception();
+            }
+        }
         std::lock_guard<std::mutex> lock(mutex_);
-        if (finished_)
-        {
-            if (error_) std::rethrow_exception(error_);
-            return;
-        }
+        bytes_ = closed_bytes_;  // every file with its trailer
     }
-    while (!held_.empty())
-    {
-        enqueue(held_.front(), false);
-        held_.pop_front();
-    }
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        finished_ = closing_ = true;
-        cv_.notify_all();
-    }
-    if (thread_.joinable()) thread_.join();
-    std::exception_ptr close_error;
-    if (file_)
-    {
-        try
-        {
-            closeFile();
-        }
-        catch (...)
-        {
-            close_error = std::current_exception();
-        }
-    }
-    std::lock_guard<std::mutex> lock(mutex_);
-    bytes_ = closed_bytes_;  // every file with its trailer
-    if (close_error && !error_) error_ = close_error;
-    if (error_) std::rethrow_exception(error_);
-}
-
-void MapRawlogWriter::rethrowError()
-{
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (error_) std::rethrow_exception(error_);
+    writer_.rethrowError();
+    if (close_error_) std::rethrow_exception(close_error_);
 }
 
 uint64_t MapRawlogWriter::mapsWritten() const
@@ -243,11 +190,7 @@ size_t MapRawlogWriter::filesDeleted() const
     std::lock_guard<std::mutex> lock(mutex_);
     return first_kept_file_;
 }
-double MapRawlogWriter::secondsWriting() const
-{
-    std::lock_guard<std::mutex> lock(mutex_);
-    return seconds_;
-}
+double MapRawlogWriter::secondsWriting() const { return writer_.secondsWriting(); }
 
 std::string rawlogFilesNote(const MapRawlogWriter& w)
 {

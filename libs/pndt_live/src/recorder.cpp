@@ -10,11 +10,12 @@
 
 namespace pndt::live
 {
-Recorder::Recorder(RecorderOptions options) : options_(std::move(options))
+Recorder::Recorder(RecorderOptions options)
+    : options_(std::move(options)),
+      file_(std::make_unique<app::GzRawlogFile>(filePath(0), 1)),
+      files_opened_(1),
+      writer_(kMaxQueued, [this](Item& it) { write(it.first, it.second); })
 {
-    file_ = std::make_unique<app::GzRawlogFile>(filePath(0), 1);
-    files_opened_ = 1;
-    t_ = std::thread([this] { run(); });
 }
 
 Recorder::~Recorder()
@@ -42,67 +43,30 @@ void Recorder::push(mrpt::obs::CObservation::Ptr o) { enqueue(std::move(o), 0); 
 
 void Recorder::enqueue(mrpt::obs::CObservation::Ptr o, double frame_t)
 {
-    std::unique_lock<std::mutex> lk(m_);
-    cv_.wait(lk, [&] { return q_.size() < kMaxQueued || error_; });
-    if (error_) std::rethrow_exception(error_);
-    q_.emplace_back(std::move(o), frame_t);
-    cv_.notify_all();
+    if (!writer_.push({std::move(o), frame_t})) writer_.rethrowError();
 }
 
 void Recorder::close()
 {
+    if (!closed_)
     {
-        std::lock_guard<std::mutex> lk(m_);
-        if (closed_)
-        {
-            if (error_) std::rethrow_exception(error_);
-            return;
-        }
         closed_ = true;
-    }
-    cv_.notify_all();
-    t_.join();
-    std::lock_guard<std::mutex> lk(m_);
-    if (!error_)
-    {
-        try
+        writer_.close();
+        if (!writer_.error())
         {
-            file_->close();
-            bytes_kept_ = closed_kept_bytes_ + file_->bytes();
-        }
-        catch (...)
-        {
-            error_ = std::current_exception();
+            try
+            {
+                file_->close();
+                bytes_kept_ = closed_kept_bytes_ + file_->bytes();
+            }
+            catch (...)
+            {
+                close_error_ = std::current_exception();
+            }
         }
     }
-    if (error_) std::rethrow_exception(error_);
-}
-
-void Recorder::run()
-{
-    for (;;)
-    {
-        std::unique_lock<std::mutex> lk(m_);
-        cv_.wait(lk, [&] { return closed_ || !q_.empty(); });
-        if (q_.empty() && closed_) return;
-        auto [o, frame_t] = std::move(q_.front());
-        q_.pop_front();
-        const bool failed = bool(error_);
-        lk.unlock();
-        cv_.notify_all();  // room in the queue
-        if (failed) continue;  // drained unwritten: the file ends where the error was
-        try
-        {
-            write(o, frame_t);
-        }
-        catch (...)
-        {
-            lk.lock();
-            error_ = std::current_exception();
-            lk.unlock();
-            cv_.notify_all();
-        }
-    }
+    writer_.rethrowError();
+    if (close_error_) std::rethrow_exception(close_error_);
 }
 
 void Recorder::write(const mrpt::obs::CObservation::Ptr& o, double frame_t)

@@ -16,16 +16,15 @@
 
 #include <mrpt/obs/CObservation.h>
 #include <pndt/app/gz_rawlog_file.h>
+#include <pndt/app/writer_thread.h>
 
 #include <atomic>
-#include <condition_variable>
 #include <cstdint>
 #include <deque>
 #include <exception>
 #include <memory>
-#include <mutex>
 #include <string>
-#include <thread>
+#include <utility>
 
 namespace pndt::live
 {
@@ -71,8 +70,9 @@ class Recorder
 
    private:
     static constexpr size_t kMaxQueued = 256;  // ~50 frames: a scan, two label images, poses, a frame start
+    /// An observation, or (null) the start of the frame at sensor time `second`.
+    using Item = std::pair<mrpt::obs::CObservation::Ptr, double>;
     void enqueue(mrpt::obs::CObservation::Ptr o, double frame_t);
-    void run();
     void write(const mrpt::obs::CObservation::Ptr& o, double frame_t);  // writer thread
     void nextFile();                                                   // writer thread
 
@@ -84,14 +84,11 @@ class Recorder
     /// Poses written that a file started now would need: the newest at or before the
     /// current frame, and those after it.
     std::deque<mrpt::obs::CObservation::Ptr> recent_poses_;
-    std::mutex m_;
-    std::condition_variable cv_;
-    std::deque<std::pair<mrpt::obs::CObservation::Ptr, double>> q_;  ///< null observation: a frame starts
-    bool closed_ = false;
-    std::exception_ptr error_;
+    bool closed_ = false;             ///< close() ran (the caller's thread)
+    std::exception_ptr close_error_;  ///< the last file's close failed
     std::atomic<uint64_t> frames_{0}, bytes_kept_{0};
     std::atomic<size_t> files_opened_{0}, files_deleted_{0};
-    std::thread t_;
+    app::WriterThread<Item> writer_;  ///< last: its thread starts once the rest is in place
 };
 
 }  // namespace pndt::live

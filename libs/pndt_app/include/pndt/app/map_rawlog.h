@@ -14,16 +14,16 @@
 
 #include <mrpt/obs/CObservation.h>
 #include <pndt/app/gz_rawlog_file.h>
+#include <pndt/app/writer_thread.h>
 #include <pndt/mrpt/PanopticNDTMap.h>
 
-#include <condition_variable>
 #include <cstdint>
 #include <deque>
 #include <exception>
 #include <memory>
 #include <mutex>
 #include <string>
-#include <thread>
+#include <utility>
 
 namespace pndt::app
 {
@@ -85,10 +85,10 @@ class MapRawlogWriter
     double secondsWriting() const;
 
    private:
+    using Item = std::pair<mrpt::serialization::CSerializable::Ptr, bool>;  ///< object, is a map
     void release(double t);
     void enqueue(mrpt::serialization::CSerializable::Ptr obj, bool is_map);
-    void run();
-    void rethrowError();
+    void write(const Item& item);           // writer thread
     void openFile();                        // the next segment (writer thread, or the constructor)
     void closeFile();                       // the current one, its size added to closed_bytes_
     void deleteOldFiles(uint64_t maps_done);  // segments beyond keep_maps (writer thread)
@@ -99,15 +99,13 @@ class MapRawlogWriter
     size_t next_file_ = 0, first_kept_file_ = 0;
     uint64_t closed_bytes_ = 0;
     std::deque<mrpt::obs::CObservation::Ptr> held_;  ///< inputs not yet passed by mapping (caller's thread)
+    uint64_t maps_done_ = 0;          ///< maps written or failed (writer thread)
+    bool finished_ = false;           ///< finish() ran (caller's thread)
+    std::exception_ptr close_error_;  ///< the last file's close failed
 
-    mutable std::mutex mutex_;
-    std::condition_variable cv_;
-    std::deque<std::pair<mrpt::serialization::CSerializable::Ptr, bool>> queue_;  ///< object, is a map
-    bool closing_ = false, busy_ = false, finished_ = false;
-    std::exception_ptr error_;
+    mutable std::mutex mutex_;  ///< the file counters above and the counts below, read by other threads
     uint64_t maps_ = 0, inputs_ = 0, bytes_ = 0;
-    double seconds_ = 0;
-    std::thread thread_;
+    WriterThread<Item> writer_;  ///< last: its thread starts once the rest is in place
 };
 
 /// For the apps' summaries: "" for one file, else where the segments are, e.g.
