@@ -15,6 +15,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <deque>
+#include <limits>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -79,7 +80,7 @@ void LivePipeline::captureLoop(const std::atomic<bool>& stop)
     // Frames must come in time order: poses are looked up, maps handed over and the recording
     // cut by frame time. A frame not after the one before is dropped; if none passes it for
     // grab_timeout (a device whose clock was reset starts again near 0), the camera is lost.
-    double last_t = -1, first_back_t = 0;
+    double last_t = -std::numeric_limits<double>::infinity(), first_back_t = 0;  // stamps may be < 0 (--stamp-offset)
     std::optional<std::chrono::steady_clock::time_point> stamps_back_since;
     while (!stop && (o_.max_frames == 0 || stats_.captured < o_.max_frames))
     {

@@ -54,7 +54,8 @@ class Recorder
     /// holds the mapper back, whose own queue then drops frames, counted). Rethrows a
     /// write error.
     void push(mrpt::obs::CObservation::Ptr o);
-    /// Writes what is queued and the gzip trailer; rethrows the first write error.
+    /// Writes what is queued and the gzip trailer; rethrows the first write error. Called
+    /// from the thread that pushes (not beside a push).
     void close();
 
     /// The file of part k (`path` itself without parts).

@@ -99,7 +99,7 @@ class MapRawlogWriter
     size_t next_file_ = 0, first_kept_file_ = 0;
     uint64_t closed_bytes_ = 0;
     std::deque<mrpt::obs::CObservation::Ptr> held_;  ///< inputs not yet passed by mapping (caller's thread)
-    uint64_t maps_done_ = 0;          ///< maps written or failed (writer thread)
+    uint64_t maps_done_ = 0;          ///< maps in a file, for the cuts (writer thread; maps_ counts those whose cut and clean-up also succeeded)
     bool finished_ = false;           ///< finish() ran (caller's thread)
     std::exception_ptr close_error_;  ///< the last file's close failed
 
