@@ -47,6 +47,7 @@ namespace
 {
 int runLive(int argc, char** argv)
 {
+    const int heap_arenas = capHeapArenas();  // before any thread starts
     CLI::App app{"pndt-live: an OpenNI2 RGB-D camera + streamed poses -> short-term panoptic NDT maps"};
     bool list_devices = false, no_registration = false, no_color = false;
     OniCaptureOptions cam;
@@ -357,9 +358,9 @@ int runLive(int argc, char** argv)
                    poses.received(), poses.droppedOutOfOrder(), poses.bad_lines.load(), poses.connections.load());
         fmt::print("maps written       : {} in {} (index.json{})\n", maps.index().size(), out_dir,
                    keptMapsNote(maps));
-        if (trim.runs > 0)
-            fmt::print("heap               : freed memory handed back {} times, {:.2f} ms at most\n", trim.runs,
-                       trim.longest_ms);
+        fmt::print("heap               : {}, freed memory handed back {} times, {:.2f} ms at most\n",
+                   heap_arenas == 1 ? "one malloc arena" : "malloc arenas as MALLOC_ARENA_MAX says", trim.runs,
+                   trim.longest_ms);
         if (!record.empty())
         {
             const auto name = [&](uint64_t k) {

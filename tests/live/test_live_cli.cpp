@@ -513,6 +513,18 @@ TEST_F(LiveCli, FramesWithoutPosesAreSkippedAndCounted)
     EXPECT_GE(skipped, 30u);
 }
 
+// One glibc arena (doc/hardening.md, "Soak": the RSS creep of per-thread arenas), unless the
+// user's MALLOC_ARENA_MAX says otherwise.
+TEST_F(LiveCli, OneMallocArenaUnlessMallocArenaMaxIsSet)
+{
+    camera("");
+    ASSERT_EQ(live("--max-frames 5"), 0) << out << err;
+    EXPECT_NE(out.find("heap               : one malloc arena, freed memory handed back"), std::string::npos) << out;
+    live_prefix = "export MALLOC_ARENA_MAX=4; ";
+    ASSERT_EQ(live("--max-frames 5", "--rate 0", false, "live2"), 0) << out << err;
+    EXPECT_NE(out.find("heap               : malloc arenas as MALLOC_ARENA_MAX says"), std::string::npos) << out;
+}
+
 TEST_F(LiveCli, AWrongOrCorruptModelFileIsNamed)
 {
     camera("");
