@@ -142,6 +142,41 @@ TEST_P(Queries, BadQueriesAreClearErrors)
     }
     EXPECT_THROW(ask(objs, "nearest chair"), InputError);
     EXPECT_THROW(ask(objs, ""), InputError);
+    // A word the reader does not know is not skipped: "the unicorn with the most
+    // chairs" answered as "chairs" would send the robot to a chair.
+    const auto message = [&](const std::string& q) {
+        try
+        {
+            const QueryResult r = ask(objs, q);
+            return "answered: " + r.summary;
+        }
+        catch (const InputError& e)
+        {
+            return std::string(e.what());
+        }
+    };
+    EXPECT_NE(message("the unicorn with the most chairs").find("'unicorn' is not a class of the map"),
+              std::string::npos)
+        << message("the unicorn with the most chairs");
+    EXPECT_NE(message("table with the most unicorns").find("'unicorns'"), std::string::npos);
+    for (const char* q : {"lamp on", "chair next to", "table with", "the table with the most"})
+        EXPECT_NE(message(q).find("a relation without its second class"), std::string::npos) << q << ": " << message(q);
+    EXPECT_NE(message("chair table").find("how is the chair related to the table"), std::string::npos)
+        << message("chair table");
+    // Numbers are checked, not wrapped or truncated.
+    EXPECT_NE(message("id 4294967311").find("a whole number from 0 to 4294967295"), std::string::npos);
+    EXPECT_NE(message("id 15.9").find("a whole number"), std::string::npos);
+    EXPECT_NE(message("id -1").find("a whole number"), std::string::npos);
+    EXPECT_NE(message("a table with -3 chairs").find("a count of chairs is a whole number"), std::string::npos);
+    EXPECT_NE(message("a table with 1000000000000 chairs").find("a count of chairs"), std::string::npos);
+    EXPECT_NE(message("chair nearest to 1e400 0").find("'1e400' is not a finite number"), std::string::npos)
+        << message("chair nearest to 1e400 0");
+    EXPECT_NE(message("chair nearest to nan nan").find("'nan' is not a finite number"), std::string::npos);
+    EXPECT_NE(message("chair nearest to 1 2 3").find("nearest to what"), std::string::npos);
+    // The phrasing a person uses still reads.
+    EXPECT_EQ(ask(objs, "please go to the table with the most chairs around it").kind, QueryKind::MostAround);
+    EXPECT_EQ(ask(objs, "find the chair nearest to 0, 0").kind, QueryKind::Nearest);
+    EXPECT_EQ(ask(objs, "id 4294967295").kind, QueryKind::Id);
     EXPECT_TRUE(ask(objs, "sofa").matches.empty());
     EXPECT_TRUE(ask(objs, "id 99999").matches.empty());
 }

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <optional>
 #include <set>
@@ -56,16 +58,48 @@ std::vector<std::string> tokenize(const std::string& q)
     return out;
 }
 
+/// A number word or a finite decimal number; "nan", "inf" and "1e400" are not
+/// numbers here (they would answer a question nobody can have meant).
 std::optional<double> number(const std::string& t)
 {
     static const char* words[] = {"zero", "one", "two",   "three",  "four",  "five",  "six",
                                   "seven", "eight", "nine", "ten", "eleven", "twelve"};
     for (int i = 0; i <= 12; ++i)
         if (t == words[i]) return double(i);
+    if (t.empty() || !(std::isdigit(static_cast<unsigned char>(t[0])) || t[0] == '-' || t[0] == '.')) return std::nullopt;
     char* end = nullptr;
     const double v = std::strtod(t.c_str(), &end);
-    if (end && *end == 0 && end != t.c_str()) return v;
+    if (end && *end == 0 && end != t.c_str() && std::isfinite(v)) return v;
     return std::nullopt;
+}
+
+/// A whole number in [lo, hi], or nullopt.
+std::optional<uint64_t> wholeNumber(double v, double lo, double hi)
+{
+    if (v < lo || v > hi || v != std::floor(v)) return std::nullopt;
+    return uint64_t(v);
+}
+
+/// The words a query may hold besides class names and numbers. A word outside
+/// this list is most likely a class the map does not have ("the unicorn with
+/// the most chairs"): answering without it would send the robot to another object.
+bool isQueryWord(const std::string& w)
+{
+    static const std::set<std::string> words = {
+        // articles, pronouns, fillers
+        "a", "an", "the", "any", "some", "it", "its", "them", "they", "there", "that", "which", "who",
+        "this", "these", "those", "is", "are", "be", "me", "my", "i", "you", "please", "and", "of", "at", "in",
+        "for", "from", "around", "round", "about", "exactly", "just", "only", "where", "what", "whichever",
+        // what a robot is told to do
+        "go", "drive", "move", "navigate", "head", "get", "take", "bring", "find", "show", "look", "locate",
+        "to", "towards", "toward", "into", "point",
+        // relations (read below)
+        "with", "has", "have", "having", "most", "more", "many", "fewest", "least", "fewer", "less", "nearest",
+        "closest", "near", "close", "on", "onto", "atop", "top", "next", "beside", "by", "x", "y", "m", "metres",
+        "meters",
+        // ids
+        "id", "object", "instance", "number"};
+    return words.count(w) != 0;
 }
 
 struct ClassMention
@@ -139,7 +173,11 @@ QueryResult runQuery(const std::vector<MapObject>& objects, const ClassSet& clas
         if ((t[i] == "id" || t[i] == "object" || t[i] == "instance") && number(t[i + 1]))
         {
             r.kind = QueryKind::Id;
-            const uint32_t id = uint32_t(*number(t[i + 1]));
+            const auto whole = wholeNumber(*number(t[i + 1]), 0, double(UINT32_MAX));
+            if (!whole)
+                throw InputError(fmt::format("'{}': an instance id is a whole number from 0 to {}, not {}", query,
+                                             UINT32_MAX, t[i + 1]));
+            const uint32_t id = uint32_t(*whole);
             if (const MapObject* o = findObject(objects, id)) r.matches.push_back({o, {}, 0});
             r.summary = r.matches.empty() ? fmt::format("no object with id {}", id)
                                           : fmt::format("object {} is a {}", id, r.matches[0].object->class_name);
@@ -150,6 +188,25 @@ QueryResult runQuery(const std::vector<MapObject>& objects, const ClassSet& clas
     if (mentions.empty())
         throw InputError(fmt::format("no known class in the query '{}' (the map's classes: {})", query,
                                      knownClasses(classes)));
+    // Every word is read: a class, a number or a word of the query language.
+    std::vector<bool> is_class(t.size(), false);
+    for (const ClassMention& m : mentions)
+        for (size_t k = 0; k < m.len; ++k) is_class[m.pos + k] = true;
+    for (size_t i = 0; i < t.size(); ++i)
+    {
+        if (is_class[i] || number(t[i]) || isQueryWord(t[i])) continue;
+        char* end = nullptr;
+        std::strtod(t[i].c_str(), &end);
+        if (end && *end == 0 && end != t[i].c_str())
+            throw InputError(fmt::format("'{}': '{}' is not a finite number", query, t[i]));
+        throw InputError(fmt::format("'{}': '{}' is not a class of the map nor a word queries use (the map's "
+                                     "classes: {})",
+                                     query, t[i], knownClasses(classes)));
+    }
+    if (mentions.size() > 2)
+        throw InputError(fmt::format("'{}': more than two classes ({}, {}, {}); a query relates one class to one other",
+                                     query, className(classes, mentions[0].id), className(classes, mentions[1].id),
+                                     className(classes, mentions[2].id)));
     const ClassMention a = mentions[0];
     const bool has_b = mentions.size() > 1;
     const ClassMention b = has_b ? mentions[1] : ClassMention{};
@@ -161,8 +218,22 @@ QueryResult runQuery(const std::vector<MapObject>& objects, const ClassSet& clas
         if (const auto v = number(t[i]))
         {
             numbers.push_back(*v);
-            if (has_b && i > a.pos && i < b.pos && *v >= 0 && *v == std::floor(*v)) count_between = int(*v);
+            if (has_b && i > a.pos && i < b.pos)
+            {
+                const auto whole = wholeNumber(*v, 0, 100000);
+                if (!whole)
+                    throw InputError(fmt::format("'{}': a count of {} is a whole number from 0 to 100000, not {}",
+                                                 query, plural(className(classes, b.id)), t[i]));
+                count_between = int(*whole);
+            }
         }
+    const bool relation_word =
+        hasWord(t, 0, t.size(), {"with", "has", "have", "having", "most", "more", "many", "fewest", "least", "fewer",
+                                 "less", "on", "onto", "atop", "top", "next", "beside", "by"});
+    if (!has_b && relation_word)
+        throw InputError(fmt::format("'{}': a relation without its second class (e.g. '{} with the most chairs', "
+                                     "'{} next to a table')",
+                                     query, A, A));
     std::vector<const MapObject*> of_a;
     for (const MapObject& o : objects)
         if (o.class_id == a.id) of_a.push_back(&o);
@@ -231,10 +302,15 @@ QueryResult runQuery(const std::vector<MapObject>& objects, const ClassSet& clas
             return r;
         }
     }
+    if (has_b)
+        throw InputError(fmt::format("'{}': how is the {} related to the {}? (with / most / fewest / N ... around, "
+                                     "on, next to)",
+                                     query, A, className(classes, b.id)));
     if (nearest_word)
     {
-        if (numbers.size() < 2)
-            throw InputError(fmt::format("'{}': nearest to what? give a point as two numbers (x y, metres)", query));
+        if (numbers.size() != 2)
+            throw InputError(fmt::format("'{}': nearest to what? give a point as two numbers (x y, metres){}", query,
+                                         numbers.size() > 2 ? fmt::format(", not {}", numbers.size()) : ""));
         r.kind = QueryKind::Nearest;
         r.point = {numbers[0], numbers[1]};
         for (const auto& [o, d] : nearestTo(objects, a.id, r.point)) r.matches.push_back({o, {}, d});

@@ -52,8 +52,12 @@ struct QueryResult
     const MapObject* best() const { return matches.empty() ? nullptr : matches.front().object; }
 };
 
-/// Throws InputError for a query it cannot read (no known class, a relation
-/// without its second class, "nearest" without a point), naming the problem.
+/// Throws InputError for a query it cannot read, naming the problem: no known
+/// class, a word that is neither a class of the map nor one of the query words
+/// (an unknown class is not skipped: the answer would be about another object),
+/// a relation without its second class, two classes without a relation, a
+/// count or id that is not a whole number in range, a number that is not finite,
+/// "nearest" without exactly two numbers for the point.
 QueryResult runQuery(const std::vector<MapObject>& objects, const ClassSet& classes, const std::string& query,
                      const RelationOptions& relations = {});
 
