@@ -8,13 +8,16 @@
 #include <fmt/format.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/random/RandomGenerators.h>
+#include <pndt/app/map_config.h>
 #include <pndt/mrpt/map_files.h>
 #include <pndt/nav/grid_image.h>
 #include <pndt/nav/map_source.h>
 #include <pndt/nav/nav_json.h>
 #include <pndt/nav/reactive_drive.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -38,7 +41,8 @@ struct Settings
     std::vector<std::string> exclude{"floor", "ceiling"};
     bool simulate = false;
     std::string planner = "simple";
-    std::string nav_config = PNDT_NAV_CONFIG;
+    // $PNDT_CONFIG_DIR, the installed share/panopticndt/config, else the source tree's.
+    std::string nav_config = pndt::app::configDir(PNDT_CONFIG_DIR) + "/reactive2d.ini";
     double wait_for_map = 0;
     double watch = 0;
     bool quiet = false;
@@ -209,13 +213,22 @@ int main(int argc, char** argv)
     app.add_option("--planner", s.planner, "simple: PlannerSimple2D on the grid; tps: PlannerRRT_SE2_TPS (TP-Space RRT) on the obstacle points")
         ->check(CLI::IsMember({"simple", "tps"}));
     app.add_flag("--simulate", s.simulate, "drive a simulated robot there with MRPT's reactive navigator");
-    app.add_option("--nav-config", s.nav_config, "reactive navigator .ini");
+    app.add_option("--nav-config", s.nav_config, "reactive navigator .ini")->capture_default_str();
     app.add_option("--wait-for-map", s.wait_for_map, "seconds to wait for a map to appear in the folder");
     app.add_option("--watch", s.watch,
                    "folder source: for this many seconds, answer again whenever pndt-map writes a newer map");
     app.add_option("-o,--out", s.out, "output folder");
     app.add_flag("--quiet", s.quiet, "no summary on stdout");
     CLI11_PARSE(app, argc, argv);
+    // CLI11's number checks let NaN and infinity through.
+    const auto finite = [](const std::vector<double>& v) {
+        return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
+    };
+    if (!finite(s.start) || !finite(s.band) || !std::isfinite(s.robot_radius) || !std::isfinite(s.resolution))
+    {
+        std::cerr << "pndt-nav: --start, --band, --robot-radius and --resolution take finite numbers\n";
+        return 1;
+    }
     try
     {
         mrpt::random::getRandomGenerator().randomize(1);  // the TP-Space RRT samples: same answer every run

@@ -27,7 +27,8 @@ else
   PREFIX="$WORK/prefix"
 fi
 for f in include/pndt/build_config.h include/pndt/panoptic_map.h lib/libpndt_mrpt_plugin.so \
-         lib/cmake/PanopticNDT/PanopticNDTConfig.cmake bin/pndt-map share/panopticndt/config/panoptic_ndt.ini; do
+         lib/cmake/PanopticNDT/PanopticNDTConfig.cmake bin/pndt-map share/panopticndt/config/panoptic_ndt.ini \
+         share/panopticndt/config/reactive2d.ini; do
   [ -e "$PREFIX/$f" ] || { echo "not installed: $f" >&2; exit 1; }
 done
 cmake -S "$SRC" -B "$WORK/build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$PREFIX" > "$WORK/configure.log" \
@@ -36,4 +37,8 @@ cmake --build "$WORK/build" > "$WORK/build.log" || { cat "$WORK/build.log" >&2; 
 "$WORK/build/consumer"
 # The installed app finds its installed config (not the source tree's).
 "$PREFIX/bin/pndt-map" --help > /dev/null
+# pndt-nav's navigator settings (--planner tps, --simulate) come from the installed config too.
+NAV_HELP=$("$PREFIX/bin/pndt-nav" --help)
+case "$NAV_HELP" in *share/panopticndt/config/reactive2d.ini*) ;;
+  *) echo "$NAV_HELP" >&2; echo "pndt-nav does not default to the installed reactive2d.ini" >&2; exit 1 ;; esac
 echo "installed into $PREFIX ($MODE), consumer built and run"

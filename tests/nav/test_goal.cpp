@@ -2,6 +2,8 @@
 // MRPT's PlannerSimple2D, checked against the ground-truth furniture. On the map
 // as built and as loaded.
 #include <gtest/gtest.h>
+
+#include <limits>
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <pndt/nav/goal_pose.h>
@@ -110,6 +112,11 @@ TEST_P(Goal, NoRoomForAHugeRobotIsAClearAnswer)
     GoalOptions no_radius;
     no_radius.robot_radius = 0;
     EXPECT_THROW(goalNextTo(objs.front(), objs, g.grid, no_radius), InputError);
+    // A NaN start never scored better than infinity: "no pose found" blamed the map.
+    GoalOptions nan_start;
+    nan_start.start = Eigen::Vector2d(std::numeric_limits<double>::quiet_NaN(), 0);
+    EXPECT_THROW(goalNextTo(objs.front(), objs, g.grid, nan_start), InputError);
+    EXPECT_FALSE(planPath(g.grid, kStart, {0, 0}, -1).found);
     // Outside the map: refused before MRPT's planner, which indexes the grid there unchecked
     // (a SEGV under ASan).
     const PlannedPath none = planPath(g.grid, kStart, {6, 6}, 0.3);

@@ -2,6 +2,8 @@
 // where the room says, the height band, inflation, agreement with the ground
 // truth floor plan. On the map as built and as loaded.
 #include <gtest/gtest.h>
+
+#include <limits>
 #include <pndt/nav/map_objects.h>
 #include <pndt/nav/navigation_grid.h>
 
@@ -131,6 +133,24 @@ TEST(GridErrors, EmptyMapAndBadOptionsAreClearErrors)
     o = {};
     o.obstacles.min_height = 2;
     o.obstacles.max_height = 1;
+    EXPECT_THROW(buildNavigationGrid(navtest::builtMap().core(), o), InputError);
+    // A negative or NaN resolution was read as "the voxel size", a NaN margin gave a 0 x 0 grid,
+    // a huge one bad_alloc, a negative one MRPT's assertion: each a clear error now.
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (const double bad : {-0.1, nan})
+    {
+        o = {};
+        o.resolution = bad;
+        EXPECT_THROW(buildNavigationGrid(navtest::builtMap().core(), o), InputError) << bad;
+    }
+    for (const double bad : {-5.0, nan, 1e6})
+    {
+        o = {};
+        o.margin = bad;
+        EXPECT_THROW(buildNavigationGrid(navtest::builtMap().core(), o), InputError) << bad;
+    }
+    o = {};
+    o.inflation_radius = nan;
     EXPECT_THROW(buildNavigationGrid(navtest::builtMap().core(), o), InputError);
 }
 

@@ -2,6 +2,8 @@
 // camera and a 2D laser peaks at the true pose, compute3DMatchingRatio and
 // squareDistanceToClosestCorrespondence. On the map as built and as loaded.
 #include <gtest/gtest.h>
+
+#include <limits>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <pndt/mrpt/observation_frame.h>
@@ -168,6 +170,36 @@ TEST_P(Localisation, SquareDistanceToTheClosestObstacle)
     // (0, 2.5): the wall at y = 3 is the nearest obstacle, 0.5 m away.
     const float d2 = map().squareDistanceToClosestCorrespondence(0.f, 2.5f);
     EXPECT_NEAR(std::sqrt(d2), 0.5, 0.06);
+}
+
+TEST_P(Localisation, APoseThatIsNotFiniteScoresAsTheWorstNotTheBest)
+{
+    // A particle filter with one NaN particle must not lock onto it: every point of
+    // a NaN pose is an outlier (the floor term), as far below the truth as a pose
+    // off the map. Before, NaN keys landed on a voxel and scored 0, the maximum.
+    const mrpt::maps::CMetricMap& m = map();
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (const auto& obs : {depthScanAt(kTruePose)})
+    {
+        const double at_true = m.computeObservationLikelihood(obs, kTruePose);
+        const double off_map = m.computeObservationLikelihood(obs, CPose3D(500, 500, 0, 0, 0, 0));
+        for (const CPose3D& bad : {CPose3D(nan, kTruePose.y(), 0, kTruePose.yaw(), 0, 0), CPose3D(nan, nan, nan, nan, nan, nan),
+                                   CPose3D(1e30, 0, 0, 0, 0, 0)})
+        {
+            const double l = m.computeObservationLikelihood(obs, bad);
+            EXPECT_EQ(l, off_map) << bad.asString();
+            EXPECT_LT(l, at_true) << bad.asString();
+        }
+    }
+    const auto laser = laserScanAt(kTruePose);
+    EXPECT_LT(m.computeObservationLikelihood(laser, CPose3D(nan, 0, 0, 0, 0, 0)),
+              m.computeObservationLikelihood(laser, kTruePose));
+    // The label at a point no key can hold: nothing there.
+    EXPECT_FALSE(map().core().labelAt({nan, 0, 0}).found);
+    EXPECT_FALSE(map().core().labelAt({1e30, 0, 0}).found);
+    EXPECT_FALSE(map().core().labelAt({0, std::numeric_limits<double>::infinity(), 0}).found);
+    // MRPT's points map crashed on a NaN query point: a clear error instead.
+    EXPECT_THROW(map().squareDistanceToClosestCorrespondence(float(nan), 0.f), std::invalid_argument);
 }
 
 TEST(LocalisationEmpty, EmptyMapGivesNoObstaclesAndAFlatLikelihood)

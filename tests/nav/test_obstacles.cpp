@@ -1,6 +1,8 @@
 // Obstacle points (plugin: obstaclePoints, getAsSimplePointsMap) on the two-table
 // room, on the map as built and as loaded from its .pndt.gz.
 #include <gtest/gtest.h>
+
+#include <limits>
 #include <pndt/mrpt/obstacle_points.h>
 
 #include "nav_test_scene.h"
@@ -113,6 +115,13 @@ TEST_P(Obstacles, AroundTheRobotInItsOwnFrame)
         if (std::abs(x - 3.0f) < 0.08f && std::abs(y) < 0.5f) ++ahead;
     }
     EXPECT_GT(ahead, 3u);
+    // A NaN pose or radius returned every point (with NaN coordinates), a negative
+    // radius acted as its square: errors now.
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_THROW(obstaclePointsAround(map().core(), {}, mrpt::poses::CPose3D(nan, 0, 0, 0, 0, 0), 3.2, local),
+                 std::invalid_argument);
+    EXPECT_THROW(obstaclePointsAround(map().core(), {}, robot, nan, local), std::invalid_argument);
+    EXPECT_THROW(obstaclePointsAround(map().core(), {}, robot, -1, local), std::invalid_argument);
 }
 
 TEST_P(Obstacles, GetAsSimplePointsMapIsTheCachedObstacleSet)

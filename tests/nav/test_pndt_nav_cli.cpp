@@ -157,7 +157,10 @@ TEST(PndtNavCli, BadInputIsAClearMessage)
                           Case{map + " --query 'a table with eight chairs'", "nothing in the map answers"},
                           Case{"/nonexistent/map.pndt.gz", "no such file"},
                           Case{out.string(), "no *.pndt.gz map"},
-                          Case{map + " --query 'table with most chairs' --robot-radius 2.5", "no free, reachable pose"}})
+                          Case{map + " --query 'table with most chairs' --robot-radius 2.5", "no free, reachable pose"},
+                          Case{map + " --query 'the unicorn with the most chairs'", "'unicorn' is not a class"},
+                          Case{map + " --query 'table with most chairs' --start nan,nan", "take finite numbers"},
+                          Case{map + " --query 'table with most chairs' --resolution nan", "take finite numbers"}})
     {
         const RunResult r = run(c.args + " --out " + (out / "o").string());
         EXPECT_EQ(r.code, 1) << c.args << "\n" << r.out;

@@ -9,6 +9,7 @@ PointLabel PanopticMap::labelAt(const Eigen::Vector3d& p) const
 {
     ensurePropagated();
     PointLabel best;
+    if (!grid_.holds(p)) return best;  // NaN or far away: no voxel (a likelihood's floor, not a hit)
     const VoxelKey k0 = grid_.keyOf(p);
     if (options_.use_ndt)
     {

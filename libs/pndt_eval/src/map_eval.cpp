@@ -23,7 +23,8 @@ PredictedLabels labelPoints(const PanopticMap& map, const std::vector<Eigen::Vec
         }
         else
         {
-            const uint32_t vi = map.voxels().find(map.grid().keyOf(points[i]));
+            const uint32_t vi =
+                map.grid().holds(points[i]) ? map.voxels().find(map.grid().keyOf(points[i])) : kNoRecord;
             if (vi != kNoRecord && map.isOccupied(map.voxels()[vi])) voxel = vi;
         }
         if (voxel == kNoRecord) continue;

@@ -1,12 +1,15 @@
 // PanopticNDTMap for MRPT's navigators and localisers: obstacle points
 // (getAsSimplePointsMap), the NDT scan likelihood for 3D and 2D scans, the
 // matching ratio and the distance to the closest obstacle.
+#include <fmt/format.h>
 #include <mrpt/maps/CPointsMap.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <pndt/mrpt/PanopticNDTMap.h>
 
+#include <cmath>
 #include <limits>
+#include <stdexcept>
 
 using mrpt::obs::CObservation2DRangeScan;
 using mrpt::obs::CObservation3DRangeScan;
@@ -73,6 +76,10 @@ float PanopticNDTMap::compute3DMatchingRatio(const mrpt::maps::CMetricMap* other
 
 float PanopticNDTMap::squareDistanceToClosestCorrespondence(float x0, float y0) const
 {
+    // MRPT's points map crashes on a NaN query point (its kd-tree).
+    if (!std::isfinite(x0) || !std::isfinite(y0))
+        throw std::invalid_argument(
+            fmt::format("PanopticNDTMap::squareDistanceToClosestCorrespondence: the point ({}, {}) is not finite", x0, y0));
     const mrpt::maps::CSimplePointsMap* obstacles = getAsSimplePointsMap();
     if (obstacles->empty()) return 1e10f;
     return obstacles->squareDistanceToClosestCorrespondence(x0, y0);

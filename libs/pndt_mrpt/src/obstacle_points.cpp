@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <stdexcept>
 
 namespace pndt
 {
@@ -90,6 +91,11 @@ void obstaclePoints(const PanopticMap& map, const ObstacleOptions& o, mrpt::maps
 void obstaclePointsAround(const PanopticMap& map, const ObstacleOptions& o, const mrpt::poses::CPose3D& robot,
                           double radius, mrpt::maps::CSimplePointsMap& out)
 {
+    if (!(radius >= 0) || !std::isfinite(robot.x()) || !std::isfinite(robot.y()) || !std::isfinite(robot.z()) ||
+        !std::isfinite(robot.yaw()) || !std::isfinite(robot.pitch()) || !std::isfinite(robot.roll()))
+        throw std::invalid_argument(fmt::format("obstacle points around the robot: the pose ({}) must be finite and the "
+                                                "radius ({} m) >= 0",
+                                                robot.asString(), radius));
     const ObstacleSelection sel = resolveObstacleOptions(map, o);
     const double z_offset = o.reference == HeightReference::Robot ? robot.z() : 0.0;
     const double r2 = radius * radius;

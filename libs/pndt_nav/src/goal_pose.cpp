@@ -39,7 +39,12 @@ GoalPose goalNextTo(const MapObject& target, const std::vector<MapObject>& objec
 {
     GoalPose g;
     g.object_id = target.id;
-    if (!(o.robot_radius > 0)) throw InputError("goal: robot radius must be positive");
+    if (!(o.robot_radius > 0 && std::isfinite(o.robot_radius))) throw InputError("goal: robot radius must be positive");
+    if (!(o.standoff >= 0 && o.max_standoff >= o.standoff && o.max_standoff <= 50))
+        throw InputError(fmt::format("goal: standoff {} m and max standoff {} m must satisfy 0 <= standoff <= max <= 50",
+                                     o.standoff, o.max_standoff));
+    if (o.start && !o.start->allFinite())
+        throw InputError(fmt::format("goal: the start ({}, {}) is not a finite point", o.start->x(), o.start->y()));
     const ClearanceMap clearance(grid);
     const Reachability reach = reachableCells(grid, clearance, o.robot_radius, o.start);
     const double res = grid.getResolution();

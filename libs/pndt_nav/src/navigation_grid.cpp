@@ -52,8 +52,16 @@ NavigationGrid buildNavigationGrid(const PanopticMap& map, const GridOptions& o)
     const VoxelStore& store = map.voxels();
     if (store.empty()) throw InputError("the map is empty: no grid to build");
     const double vs = map.options().voxel_size;
+    // 0 means the voxel size; a negative or NaN resolution is a mistake, not a default.
+    if (!(o.resolution >= 0)) throw InputError(fmt::format("grid resolution {} m: give 0 (the voxel size) or 0.005-5 m", o.resolution));
     const double res = o.resolution > 0 ? o.resolution : vs;
-    if (!(res >= 0.005 && res <= 5)) throw InputError(fmt::format("grid resolution {} m is out of range", res));
+    if (!(res >= 0.005 && res <= 5)) throw InputError(fmt::format("grid resolution {} m is out of range (0.005-5 m)", res));
+    if (!(o.margin >= 0 && o.margin <= 100))
+        throw InputError(fmt::format("grid margin {} m is out of range (0-100 m)", o.margin));
+    if (!(o.inflation_radius >= 0 && o.inflation_radius <= 10))
+        throw InputError(fmt::format("grid inflation radius {} m is out of range (0-10 m)", o.inflation_radius));
+    if (!(o.floor_tolerance >= 0 && std::isfinite(o.floor_tolerance)))
+        throw InputError(fmt::format("grid floor tolerance {} m must be a finite number >= 0", o.floor_tolerance));
     const ObstacleSelection sel = resolveObstacleOptions(map, o.obstacles);
     const std::vector<bool> floor_class = classMask(map.options().classes, o.floor_classes);
     NavigationGrid out;

@@ -14,6 +14,11 @@ PlannedPath planPath(const mrpt::maps::COccupancyGridMap2D& grid, const Eigen::V
                      const Eigen::Vector2d& goal, double robot_radius, double min_step)
 {
     PlannedPath out;
+    if (!(robot_radius >= 0 && robot_radius < 10))
+    {
+        out.reason = fmt::format("the robot radius {} m is out of range (0-10 m)", robot_radius);
+        return out;
+    }
     // PlannerSimple2D indexes the grid at the start and goal cells without a bounds check
     // (ASan: a SEGV inside computePath for a goal outside the map): refused here, clearly.
     for (const auto& [what, p] : {std::pair{"start", start}, std::pair{"goal", goal}})

@@ -208,6 +208,7 @@ struct PoseRefiner::Impl final : GaussianSearch
     }
     const CachedGaussian* nearest(const Eigen::Vector3d& x, uint32_t i) override
     {
+        if (!map->grid().holds(x)) return nullptr;  // a diverged pose: no Gaussian near it
         const VoxelKey k = map->grid().keyOf(x);
         Neighbourhood& nb = around[i];
         if (!nb.valid || nb.key != k)

@@ -55,6 +55,14 @@ class VoxelGrid
    public:
     explicit VoxelGrid(double voxel_size = 0.1) : size_(voxel_size), inv_(1.0 / voxel_size) {}
     double voxelSize() const { return size_; }
+    /// False for a point whose key keyOf() cannot give (NaN, infinite, or beyond
+    /// the key range): callers answer "no voxel there" instead of converting it.
+    bool holds(const Eigen::Vector3d& p) const
+    {
+        const double lim = double(VoxelKey::kLimit - 1);
+        const Eigen::Vector3d k = p * inv_;
+        return std::abs(k.x()) < lim && std::abs(k.y()) < lim && std::abs(k.z()) < lim;  // NaN compares false
+    }
     VoxelKey keyOf(const Eigen::Vector3d& p) const
     {
         return {int32_t(std::floor(p.x() * inv_)), int32_t(std::floor(p.y() * inv_)),
