@@ -109,9 +109,13 @@ int main(int argc, char** argv)
     app.add_option("--clock-offset", clock_offset,
                    "seconds added to pose stamps (localiser clock -> camera clock; config clock_offset; what "
                    "--refine's time offset estimate suggests)");
-    app.add_option("--period", period, "short-term map period (config period_unit; 0 = one map)");
-    app.add_option("--voxel-size", voxel_size, "voxel size in metres");
-    app.add_option("--max-frames", max_frames, "stop after this many mapped frames (0 = all)");
+    // Given values go to the config, whose checks name the key and its range; a value that
+    // is not finite or out of range is an error, never "not given".
+    CLI::Option* period_opt = app.add_option("--period", period, "short-term map period (config period_unit; 0 = one map)")
+                                  ->check(CLI::NonNegativeNumber);
+    CLI::Option* voxel_opt = app.add_option("--voxel-size", voxel_size, "voxel size in metres")->check(CLI::PositiveNumber);
+    app.add_option("--max-frames", max_frames, "stop after this many mapped frames (0 = all)")
+        ->check(CLI::NonNegativeNumber);
     ShortTermCli short_term_cli;
     short_term_cli.addTo(app);
     app.add_flag("--no-progress", no_progress, "no progress bar");
@@ -140,11 +144,11 @@ int main(int argc, char** argv)
         if (!poses.empty()) sets.insert(sets.begin(), {"pndt-map.pose_source=file", "pndt-map.pose_file=" + poses});
         if (!pose_format.empty()) sets.push_back("pndt-map.pose_format=" + pose_format);
         if (!clock_offset.empty()) sets.push_back("pndt-map.clock_offset=" + clock_offset);
-        if (period >= 0) sets.push_back(fmt::format("pndt-map.period={}", period));
+        if (period_opt->count()) sets.push_back(fmt::format("pndt-map.period={}", period));
         if (no_maps_rawlog) sets.push_back("pndt-map.maps_rawlog=false");
         if (rawlog_inputs) sets.push_back("pndt-map.maps_rawlog_inputs=true");
         short_term_cli.addSetsTo(sets);
-        if (voxel_size > 0) sets.push_back(fmt::format("MAP_PanopticNDTMap_00_creationOpts.voxel_size={}", voxel_size));
+        if (voxel_opt->count()) sets.push_back(fmt::format("MAP_PanopticNDTMap_00_creationOpts.voxel_size={}", voxel_size));
         const auto cfg = loadLayeredConfig(files, sets);
         std::vector<std::string> sections;
         cfg.getAllSections(sections);
@@ -219,9 +223,11 @@ int main(int argc, char** argv)
             return false;
         };
         std::optional<PairedFrame> last;
+        const auto atFrameLimit = [&] { return max_frames > 0 && mapped >= uint64_t(max_frames); };
         const auto integrateDone = [&] {
             for (PairedFrame& p : done)
             {
+                if (atFrameLimit()) break;  // --max-frames: frames completed together are not all mapped
                 const uint64_t budget_before = maps.budgetHandOvers();
                 if (refinement)
                     p.T_world_cam = refinement->refine(maps.current() ? &maps.current()->core() : nullptr, p.frame,
@@ -239,7 +245,7 @@ int main(int argc, char** argv)
             }
             done.clear();
         };
-        const auto more = [&] { return !g_stop && (max_frames <= 0 || mapped < uint64_t(max_frames)); };
+        const auto more = [&] { return !g_stop && !atFrameLimit(); };
         // A scan takes its pose once the track reaches its time: with the rawlog's own
         // poses, scans after the last pose read so far wait (bounded) for the next one.
         constexpr size_t kMaxWaitingScans = 64;

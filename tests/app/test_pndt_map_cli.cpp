@@ -355,6 +355,31 @@ TEST(PndtMapCli, UnknownConfigKeysAndSectionsAreErrorsNamingThem)
     r = run(mapExe() + roomRawlog().string() + " -o " + out.string() + " -s pndt-map.period=-1");
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.out.find("'period'"), std::string::npos) << r.out;
+    // Options given with a value that is no value: errors, never "not given" (a negative or NaN
+    // --voxel-size and --period were the defaults, --max-frames -1 all frames).
+    for (const char* bad : {"--voxel-size -0.1", "--voxel-size 0", "--voxel-size nan", "--period -1", "--period nan",
+                            "--max-frames -1"})
+    {
+        r = run(mapExe() + roomRawlog().string() + " -o " + out.string() + " " + bad);
+        EXPECT_NE(r.code, 0) << bad << "\n" << r.out;
+        EXPECT_EQ(r.out.find("frames mapped"), std::string::npos) << bad << "\n" << r.out;
+        EXPECT_NE(r.out.find(std::string(bad).substr(2, 5)), std::string::npos) << bad << "\n" << r.out;
+    }
+}
+
+TEST(PndtMapCli, MaxFramesMapsExactlyThatMany)
+{
+    // Frames completed together (labels after their depth frame, the pairer's flush) were all
+    // mapped: --max-frames 3 mapped 4.
+    const fs::path out = tempDir("max_frames");
+    for (const int n : {1, 3, 5})
+    {
+        const RunResult r = run(mapExe() + roomRawlog().string() + " -o " + (out / std::to_string(n)).string() +
+                                " --max-frames " + std::to_string(n));
+        EXPECT_EQ(r.code, 0) << r.out;
+        EXPECT_NE(r.out.find(fmt::format("frames mapped      : {} ", n)), std::string::npos) << r.out;
+    }
+    fs::remove_all(out);
 }
 
 TEST(PndtMapCli, RefinementFromTheConfigAsFromTheCommandLine)

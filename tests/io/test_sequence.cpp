@@ -340,6 +340,24 @@ TEST_F(Sequences, NicrLayoutWithLabelsPredictionsAndUnregisteredColour)
     no_labels.instance_dir = "-";
     EXPECT_TRUE(openNicrSequence(split, seq_id, no_labels).frames[0].semantic_path.empty());
 
+    // An instance image of another size than its semantic image: an error naming it (pndt-map
+    // wrote past the end of its instance image, pndt-eval read past the end of this one).
+    {
+        const std::string inst_path = path("valid/instance/" + seq_id + "/0000.png");
+        cv::imwrite(inst_path, cv::Mat(kH / 2, kW / 2, CV_8UC3, cv::Scalar(0, 0, 0)));
+        EXPECT_INPUT_ERROR(seq.load(0), "instance/ai_001_001/cam_00/0000.png",
+                           "ground-truth instance image is 32 x 24 but its semantic image");
+        FrameLoadOptions geometry_only;
+        geometry_only.labels = false;
+        geometry_only.predictions = false;
+        EXPECT_NO_THROW(seq.load(0, geometry_only));
+        cv::imwrite(inst_path, inst);
+        ZipMember small{"arr_0.npy", makeNpy("<f4", "(24, 32)", floatBytes(std::vector<float>(32 * 24, 0.f)))};
+        write("pred/pred_panoptic_instance/" + seq_id + "/0000.npz", makeZip({small}));
+        EXPECT_INPUT_ERROR(seq.load(0), "pred_panoptic_instance/ai_001_001/cam_00/0000.npz",
+                           "predicted instance image is 32 x 24 but its semantic image");
+    }
+
     EXPECT_INPUT_ERROR(openNicrSequence(split, "ai_009_009/cam_00"), "ai_009_009/cam_00", "not found");
     std::filesystem::remove(path("valid/depth_intrinsics/" + seq_id + ".json"));
     EXPECT_INPUT_ERROR(openNicrSequence(split, seq_id), "cam_00.json", "depth intrinsics file not found");

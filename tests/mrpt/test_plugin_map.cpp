@@ -107,6 +107,39 @@ TEST(PluginIni, UnknownOrMalformedKeysAreErrorsNamingThem)
     {
         EXPECT_NE(std::string(e.what()).find("'0.4x'"), std::string::npos) << e.what();
     }
+    // What MRPT prints keeps the section whole: it reads "[...]" in a message as a source
+    // location ("Location: config [MAP_PanopticNDTMap_00_creationOpts", the rest lost).
+    const auto message = [&](const std::string& text) -> std::string {
+        try
+        {
+            multiMapFrom(text);
+            return "no error";
+        }
+        catch (const std::exception& e)
+        {
+            return e.what();
+        }
+    };
+    EXPECT_NE(message(ini).find("config section 'MAP_PanopticNDTMap_00_creationOpts': unknown key 'voxel_sise'"),
+              std::string::npos)
+        << message(ini);
+    // A misspelt section, or one the plugin does not read, is not silently left at the defaults.
+    for (const char* section : {"MAP_PanopticNDTMap_0_creationOpts", "MAP_PanopticNDTMap_00_creationOpt",
+                                "MAP_PanopticNDTMap_00_likelihoodOpts"})
+    {
+        const std::string m = message(std::string(kIni) + "\n[" + section + "]\nvoxel_size=0.1\n");
+        EXPECT_NE(m.find(std::string("config section '") + section + "' is not read by PanopticNDTMap"),
+                  std::string::npos)
+            << section << ": " << m;
+    }
+    EXPECT_NE(message(std::string(kIni) + "\n[MAP_PanopticNDTMap_00_likelihoodOpts]\n").find("set in code"),
+              std::string::npos);
+    // "voxel_size=" (a value lost in editing) is an error, not the default.
+    std::string empty = kIni;
+    empty.replace(empty.find("voxel_size=0.25"), 15, "voxel_size=");
+    EXPECT_NE(message(empty).find("key 'voxel_size': value '' is not a number (to keep the default, remove the key)"),
+              std::string::npos)
+        << message(empty);
 }
 
 TEST(PluginPose, CameraConventionAgreesWithMrptUnprojection)

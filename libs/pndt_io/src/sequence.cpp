@@ -20,6 +20,17 @@ void checkSize(const Image<T>& img, const CameraIntrinsics& K, const std::string
         detail::failFile(path, fmt::format("{} image is {} x {} but its intrinsics are for {} x {}",
                                            what, img.width, img.height, K.width, K.height));
 }
+
+/// A frame's instance labels go with its semantic ones pixel by pixel: the same size.
+template <typename A, typename B>
+void checkPair(const Image<A>& semantic, const std::string& semantic_path, const Image<B>& instance,
+               const std::string& instance_path, const char* what)
+{
+    if (!semantic.empty() && !instance.empty() && !instance.sameSize(semantic.width, semantic.height))
+        detail::failFile(instance_path, fmt::format("{} instance image is {} x {} but its semantic image ({}) is {} x {}",
+                                                    what, instance.width, instance.height, semantic_path,
+                                                    semantic.width, semantic.height));
+}
 }  // namespace
 
 RgbdFrame RgbdSequence::load(size_t i, const FrameLoadOptions& options) const
@@ -45,11 +56,13 @@ RgbdFrame RgbdSequence::load(size_t i, const FrameLoadOptions& options) const
     {
         if (!r.semantic_path.empty()) f.semantic_gt = readLabelImage(r.semantic_path);
         if (!r.instance_path.empty()) f.instance_gt = readLabelImage(r.instance_path);
+        checkPair(f.semantic_gt, r.semantic_path, f.instance_gt, r.instance_path, "ground-truth");
     }
     if (options.predictions)
     {
         if (!r.pred_semantic_path.empty()) f.pred_semantic = readNpzImage(r.pred_semantic_path);
         if (!r.pred_instance_path.empty()) f.pred_instance = readNpzImage(r.pred_instance_path);
+        checkPair(f.pred_semantic, r.pred_semantic_path, f.pred_instance, r.pred_instance_path, "predicted");
     }
     return f;
 }

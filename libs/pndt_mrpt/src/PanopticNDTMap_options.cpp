@@ -3,7 +3,10 @@
 #include <pndt/mrpt/PanopticNDTMap.h>
 #include <pndt/mrpt/config_section.h>
 
+#include <algorithm>
+#include <cctype>
 #include <sstream>
+#include <vector>
 
 namespace pndt
 {
@@ -32,7 +35,7 @@ ClassSet readClassSet(ConfigSection& s)
     {
         if (set_name != "nyuv2_40")
             throw std::invalid_argument(fmt::format(
-                "config [{}] key 'class_set': unknown class set '{}' (known: nyuv2_40; or give class_names)",
+                "config section '{}', key 'class_set': unknown class set '{}' (known: nyuv2_40; or give class_names)",
                 s.name(), set_name));
         return ClassSet::nyuv2_40();
     }
@@ -44,7 +47,7 @@ ClassSet readClassSet(ConfigSection& s)
     for (const auto& n : stuff_list)
         if (std::find(list.begin(), list.end(), n) == list.end())
             throw std::invalid_argument(
-                fmt::format("config [{}] key 'stuff_classes': '{}' is not in class_names", s.name(), n));
+                fmt::format("config section '{}', key 'stuff_classes': '{}' is not in class_names", s.name(), n));
     return ClassSet(std::move(classes));
 }
 
@@ -76,7 +79,7 @@ void readChoice(ConfigSection& s, const std::string& section, const char* key, E
         }
         known += (known.empty() ? "" : ", ") + std::string(name(c));
     }
-    throw std::invalid_argument(fmt::format("config [{}] key '{}': '{}' is not one of {}", section, key, text, known));
+    throw std::invalid_argument(fmt::format("config section '{}', key '{}': '{}' is not one of {}", section, key, text, known));
 }
 }  // namespace
 
@@ -139,7 +142,7 @@ void loadMapOptions(const mrpt::config::CConfigFileBase& c, const std::string& s
     }
     catch (const std::invalid_argument& e)
     {
-        throw std::invalid_argument(fmt::format("config [{}]: {}", section, e.what()));
+        throw std::invalid_argument(fmt::format("config section '{}': {}", section, e.what()));
     }
 }
 
@@ -182,7 +185,7 @@ void InsertionOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c
     s.read("refine_loss_scale", refine_loss_scale);
     s.rejectUnknownKeys();
     if (!(label_pairing_tolerance >= 0))
-        throw std::invalid_argument(fmt::format("config [{}] key 'label_pairing_tolerance' must be >= 0", section));
+        throw std::invalid_argument(fmt::format("config section '{}', key 'label_pairing_tolerance' must be >= 0", section));
 }
 
 void InsertionOptions::dumpToTextStream(std::ostream& out) const
@@ -212,13 +215,13 @@ void RenderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, c
     else if (mode == "panoptic") color_mode = ColorMode::Panoptic;
     else if (!mode.empty())
         throw std::invalid_argument(fmt::format(
-            "config [{}] key 'color_mode': '{}' is not semantic, instance or panoptic", section, mode));
+            "config section '{}', key 'color_mode': '{}' is not semantic, instance or panoptic", section, mode));
     if (sh == "points") shape = VoxelShape::Points;
     else if (sh == "ellipsoids") shape = VoxelShape::Ellipsoids;
     else if (sh == "cubes") shape = VoxelShape::Cubes;
     else if (!sh.empty())
         throw std::invalid_argument(
-            fmt::format("config [{}] key 'shape': '{}' is not points, ellipsoids or cubes", section, sh));
+            fmt::format("config section '{}', key 'shape': '{}' is not points, ellipsoids or cubes", section, sh));
 }
 
 void RenderOptions::dumpToTextStream(std::ostream& out) const
@@ -235,9 +238,42 @@ void RenderOptions::dumpToTextStream(std::ostream& out) const
 
 PanopticNDTMap::TMapDefinition::TMapDefinition() = default;
 
+namespace
+{
+/// A section named like this map's (<base>_NN_...) that no map reads: a typo there would
+/// leave every option at its default without a word ("MAP_PanopticNDTMap_0_creationOpts").
+void rejectMisnamedSections(const mrpt::config::CConfigFileBase& c, const std::string& prefix)
+{
+    const size_t cut = prefix.rfind('_');
+    if (cut == std::string::npos) return;
+    const std::string base = prefix.substr(0, cut + 1);  // "MAP_PanopticNDTMap_"
+    std::vector<std::string> sections;
+    c.getAllSections(sections);
+    for (const std::string& s : sections)
+    {
+        if (s.size() < base.size() || !std::equal(base.begin(), base.end(), s.begin(), [](char a, char b) {
+                return std::tolower(static_cast<unsigned char>(a)) == std::tolower(static_cast<unsigned char>(b));
+            }))
+            continue;
+        const std::string rest = s.substr(base.size());  // "00_creationOpts"
+        const bool index = rest.size() > 3 && std::isdigit(static_cast<unsigned char>(rest[0])) &&
+                           std::isdigit(static_cast<unsigned char>(rest[1])) && rest[2] == '_';
+        std::string what = index ? rest.substr(3) : "";
+        std::transform(what.begin(), what.end(), what.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+        if (what == "creationopts" || what == "insertopts" || what == "renderopts") continue;  // MRPT: any case
+        throw std::invalid_argument(fmt::format(
+            "config section '{}' is not read by PanopticNDTMap (its sections: '{}_creationOpts', '{}_insertOpts', "
+            "'{}_renderOpts'{})",
+            s, prefix, prefix, prefix,
+            what == "likelihoodopts" ? "; likelihood options are set in code: navigationOptions.likelihood" : ""));
+    }
+}
+}  // namespace
+
 void PanopticNDTMap::TMapDefinition::loadFromConfigFile_map_specific(const mrpt::config::CConfigFileBase& c,
                                                                      const std::string& prefix)
 {
+    rejectMisnamedSections(c, prefix);
     // Sections: <prefix>_creationOpts (all map options), _insertOpts (pairing), _renderOpts.
     loadMapOptions(c, prefix + "_creationOpts", map_options);
     insertionOpts.loadFromConfigFile(c, prefix + "_insertOpts");

@@ -38,12 +38,19 @@ std::string ConfigSection::raw(const std::string& key)
 void ConfigSection::fail(const std::string& key, const std::string& value, const char* expected) const
 {
     throw std::invalid_argument(
-        fmt::format("config [{}] key '{}': value '{}' is not {}", section_, key, value, expected));
+        fmt::format("config section '{}', key '{}': value '{}' is not {}", section_, key, value, expected));
+}
+
+/// "key =" with nothing after it: a value lost in editing, not a request for the default.
+void ConfigSection::rejectEmpty(const std::string& key, const std::string& value, const char* expected) const
+{
+    if (value.empty() && has(key)) fail(key, value, expected);
 }
 
 void ConfigSection::read(const std::string& key, double& v)
 {
     const std::string s = raw(key);
+    rejectEmpty(key, s, "a number (to keep the default, remove the key)");
     if (s.empty()) return;
     size_t used = 0;
     double x = 0;
@@ -69,6 +76,7 @@ void ConfigSection::read(const std::string& key, float& v)
 void ConfigSection::read(const std::string& key, bool& v)
 {
     std::string s = raw(key);
+    rejectEmpty(key, s, "a boolean (to keep the default, remove the key)");
     if (s.empty()) return;
     std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     if (s == "1" || s == "true" || s == "yes" || s == "on")
@@ -82,6 +90,7 @@ void ConfigSection::read(const std::string& key, bool& v)
 void ConfigSection::read(const std::string& key, uint64_t& v)
 {
     const std::string s = raw(key);
+    rejectEmpty(key, s, "a non-negative integer (to keep the default, remove the key)");
     if (s.empty()) return;
     size_t used = 0;
     unsigned long long x = 0;
@@ -123,7 +132,7 @@ void ConfigSection::rejectUnknownKeys() const
             std::string list;
             for (const auto& kk : known_) list += (list.empty() ? "" : ", ") + kk;
             throw std::invalid_argument(
-                fmt::format("config [{}]: unknown key '{}' (known keys: {})", section_, k, list));
+                fmt::format("config section '{}': unknown key '{}' (known keys: {})", section_, k, list));
         }
 }
 

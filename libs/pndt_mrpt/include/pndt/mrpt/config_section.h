@@ -31,6 +31,7 @@ class ConfigSection
    private:
     std::string raw(const std::string& key);
     [[noreturn]] void fail(const std::string& key, const std::string& value, const char* expected) const;
+    void rejectEmpty(const std::string& key, const std::string& value, const char* expected) const;
 
     const mrpt::config::CConfigFileBase& cfg_;
     std::string section_;
