@@ -562,6 +562,32 @@ TEST_F(LiveCli, SigtermFinalisesAndWritesTheCurrentMap)
     EXPECT_NE(slurp(dir / "live" / "index.json").find(fmt::format("\"frames\": {}", mapped)), std::string::npos);
 }
 
+TEST_F(LiveCli, AStopWhilePosesHaveStoppedEndsWithinOnePoseWait)
+{
+    // The localiser sends 1 s of poses and stops; frames queue while each waits --pose-wait 2 s.
+    // Before, every queued frame waited its full 2 s one after another after the stop (a
+    // 90-frame queue: 3 minutes). Now the waits count from capture and end one wait after the stop.
+    camera("");
+    const std::string cmd = fmt::format(
+        "cd {0} && (PNDT_VIRTUAL_CAMERA={0}/camera.cfg LD_LIBRARY_PATH={1} {2} --pose-tcp {3} --pose-format tum "
+        "--period 0 --pose-wait 2 -o {0}/live > live.out 2> live.err & pid=$!; echo $pid > live.pid; wait $pid; "
+        "echo $? > live.rc) & "
+        "{4} {0}/poses.txt --to 127.0.0.1:{3} --max-poses 30 > {0}/send.out 2>&1; "
+        "for i in $(seq 600); do grep -qE '^\\[ +([5-9]|[1-9][0-9]+)\\.[0-9] s\\]' {0}/live.out && break; sleep 0.1; "
+        "done; date +%s.%N > {0}/term.t; kill -TERM $(cat {0}/live.pid); wait; date +%s.%N > {0}/end.t",
+        dir.string(), PNDT_ONI_DIR, PNDT_LIVE_EXE, port, PNDT_POSE_SEND_EXE);
+    sh(cmd);
+    out = slurp(dir / "live.out");
+    const double took = std::stod(slurp(dir / "end.t")) - std::stod(slurp(dir / "term.t"));
+    EXPECT_EQ(std::stoi(slurp(dir / "live.rc")), 0) << out << slurp(dir / "live.err");
+    EXPECT_LT(took, 8.0) << "from SIGTERM to exit\n" << out;  // one 2 s pose wait, the map's finalising, a loaded machine
+    const uint64_t mapped = number(out, R"(frames mapped\s+: (\d+))");
+    EXPECT_GE(mapped, 5u) << out;
+    EXPECT_LE(mapped, 31u) << out;  // none after the poses ended
+    EXPECT_GT(number(out, R"(frames skipped\s+: (\d+) waited)"), 30u) << out;
+    EXPECT_TRUE(fs::exists(dir / "live" / "map_0000.pndt.gz"));
+}
+
 TEST_F(LiveCli, MapsRawlogOptionsAsPndtMap)
 {
     camera("");

@@ -43,6 +43,7 @@ struct LivePipeline::Item
 {
     CapturedFrame frame;
     double t = 0;
+    std::chrono::steady_clock::time_point captured;  ///< its pose wait runs from here
     mrpt::obs::CObservationImage::Ptr semantic, instance;  ///< null: geometry only
     bool ready = false;                                      ///< segmentation done or given up
     bool abandoned = false;  ///< the mapper went on without this frame's labels
@@ -98,6 +99,7 @@ void LivePipeline::captureLoop(const std::atomic<bool>& stop)
         }
         ++stats_.captured;
         auto it = std::make_shared<Item>();
+        it->captured = std::chrono::steady_clock::now();
         it->t = o_.device_stamps ? f->device_t + o_.stamp_offset
                                  : mrpt::Clock::toDouble(mrpt::Clock::now());
         f->scan->timestamp = mrpt::Clock::fromDouble(it->t);
@@ -235,10 +237,23 @@ void LivePipeline::segmentationLoop()
     q_->cv.notify_all();
 }
 
+std::chrono::steady_clock::time_point LivePipeline::drainDeadline() const
+{
+    return std::chrono::steady_clock::time_point(
+        std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::nanoseconds(drain_deadline_ns_.load())));
+}
+
 void LivePipeline::mapItem(Item& it, std::vector<PairedFrame>& done, const std::function<void()>& integrate_done)
 {
-    // Never mapped with a stale pose: wait (bounded) for a pose at or after the frame.
-    if (!poses_.waitFor(it.t, o_.pose_wait))
+    // Never mapped with a stale pose: wait (bounded) for a pose at or after the frame. The
+    // wait counts from the frame's capture (time in the queue included) and ends at the drain
+    // deadline once a stop is asked for: frames queued during a localiser outage no longer
+    // wait one after another (90 frames x 0.5 s = 45 s before Ctrl-C took effect).
+    const auto deadline = std::min(it.captured + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                     std::chrono::duration<double>(std::max(0.0, o_.pose_wait))),
+                                   drainDeadline());
+    const double wait = std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count();
+    if (!poses_.waitFor(it.t, std::max(0.0, wait)))
     {
         if (!pose_gap_reported_)
             fmt::print(stderr,
@@ -363,7 +378,17 @@ void LivePipeline::run(const std::atomic<bool>& stop,
     auto next = t0 + std::chrono::seconds(1);
     for (;;)
     {
-        if (stop) capture_stop = true;
+        if (stop && !capture_stop)
+        {
+            capture_stop = true;
+            // What is queued may still get its pose, for one pose wait at most.
+            drain_deadline_ns_ = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                     (std::chrono::steady_clock::now() +
+                                      std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                          std::chrono::duration<double>(std::max(0.0, o_.pose_wait))))
+                                         .time_since_epoch())
+                                     .count();
+        }
         {
             std::lock_guard<std::mutex> lk(q_->m);
             // After a mapping error nothing maps what capture queued before it stopped.

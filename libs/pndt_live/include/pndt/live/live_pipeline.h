@@ -22,7 +22,9 @@
 #include <pndt/seg/segmenter.h>
 
 #include <atomic>
+#include <chrono>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -110,6 +112,8 @@ class LivePipeline
     void segmentationLoop();
     void mappingLoop();
     void mapItem(Item& it, std::vector<PairedFrame>& done, const std::function<void()>& integrate_done);
+    /// Until a stop is asked for: never; then one pose wait later (queued frames stop waiting).
+    std::chrono::steady_clock::time_point drainDeadline() const;
 
     FrameGrabber& grabber_;
     seg::Segmenter* segmenter_;
@@ -120,6 +124,7 @@ class LivePipeline
     LiveOptions o_;
     LiveStats stats_;
     std::optional<PairedFrame> last_;
+    std::atomic<int64_t> drain_deadline_ns_{std::numeric_limits<int64_t>::max()};  ///< steady clock
     bool pose_gap_reported_ = false;
     std::unique_ptr<Queues> q_;
 };
