@@ -120,6 +120,29 @@ TEST(PoseSources, TcpTakesLinesAcrossReconnectsAndCountsBadLines)
     EXPECT_NEAR(b.latest(), 3.0, 1e-6);
 }
 
+TEST(PoseSources, ALineLongerThan4kBytesClosesItsConnectionAndTheNextConnectionIsRead)
+{
+    // A sender of megabytes without a newline grew the line buffer without bound (144 MB in
+    // 12 s, each receive rescanning it): now the connection is closed at 4 kB.
+    LivePoseBuffer b;
+    int port = 0;
+    auto src = tcpPoseServer(0, LineFormat::Rtabmap11, app::PoseFrame::Robot, b, &port);
+    int fd = connectLocal(port);
+    sendAll(fd, "1 0 0 0 0 0 0 1 1\n");
+    ASSERT_TRUE(waitCount(b, 1));
+    const std::string junk(3000, '9');
+    bool closed = false;
+    for (int i = 0; i < 2000 && !closed; ++i)  // until the server has closed it (send fails)
+        closed = ::send(fd, junk.data(), junk.size(), MSG_NOSIGNAL) < 0;
+    EXPECT_TRUE(closed) << "the connection stayed open after 6 MB without a newline";
+    ::close(fd);
+    EXPECT_EQ(b.bad_lines.load(), 1u);
+    fd = connectLocal(port);
+    sendAll(fd, "2 0 0 0 0 0 0 1 2\n");
+    EXPECT_TRUE(waitCount(b, 2));
+    ::close(fd);
+}
+
 TEST(PoseSources, UdpDatagramsAndAFileBeingAppendedTo)
 {
     LivePoseBuffer u;

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <list>
 
 namespace pndt::live
@@ -123,18 +124,30 @@ struct LineFeeder
     std::string where;
     std::string partial{};  // a line not ended yet
     uint64_t line_no = 0;
+    /// A pose line is under 200 bytes: a sender of megabytes without a newline is broken or
+    /// hostile (the buffer grew without bound, rescanned on every receive).
+    static constexpr size_t kMaxLine = 4096;
 
-    void bytes(const char* p, size_t n)
+    /// False after a line longer than kMaxLine (said once, naming the source): the caller
+    /// closes the connection; what was buffered is dropped.
+    bool bytes(const char* p, size_t n)
     {
+        size_t start = 0, nl, from = partial.size();  // bytes before `from` hold no newline
         partial.append(p, n);
-        size_t start = 0, nl;
-        while ((nl = partial.find('\n', start)) != std::string::npos)
+        while ((nl = partial.find('\n', from)) != std::string::npos)
         {
             line(partial.substr(start, nl - start));
-            start = nl + 1;
+            start = from = nl + 1;
         }
         partial.erase(0, start);
+        if (partial.size() <= kMaxLine) return true;
+        fmt::print(stderr, "pndt-live: pose stream {}: line {} is longer than {} bytes without a newline: {}\n", where,
+                   line_no + 1, kMaxLine, closing_note);
+        partial.clear();
+        ++buffer->bad_lines;
+        return false;
     }
+    const char* closing_note = "connection closed";
     void line(const std::string& l)
     {
         ++line_no;
@@ -197,6 +210,7 @@ class SocketSource : public PoseSource
     {
         std::list<Conn> conns;
         LineFeeder udp{f_, frame_, &b_, fmt::format("UDP port {}", port_)};
+        udp.closing_note = "datagram dropped";
         char buf[65536];
         while (!stop_)
         {
@@ -224,8 +238,8 @@ class SocketSource : public PoseSource
                     const ssize_t n = ::recv(fd_, buf, sizeof buf, 0);
                     if (n > 0)
                     {
-                        udp.bytes(buf, size_t(n));
-                        if (!udp.partial.empty()) udp.bytes("\n", 1);  // a datagram ends its last line
+                        // A datagram ends its last line; an over-long one is dropped.
+                        if (udp.bytes(buf, size_t(n)) && !udp.partial.empty()) udp.bytes("\n", 1);
                     }
                 }
             }
@@ -239,9 +253,7 @@ class SocketSource : public PoseSource
                 if (fds[i].revents & (POLLIN | POLLHUP | POLLERR))
                 {
                     const ssize_t n = ::recv(it->fd, buf, sizeof buf, 0);
-                    if (n > 0)
-                        it->feeder.bytes(buf, size_t(n));
-                    else
+                    if (n <= 0 || !it->feeder.bytes(buf, size_t(n)))  // closed, or a line too long
                     {
                         ::close(it->fd);
                         --b_.open_connections;
@@ -270,6 +282,7 @@ class TailSource : public PoseSource
     TailSource(std::string path, LineFormat f, app::PoseFrame frame, LivePoseBuffer& b)
         : path_(std::move(path)), feeder_{f, frame, &b, path_}
     {
+        feeder_.closing_note = "skipped";
         thread_ = std::thread([this] { run(); });
     }
     ~TailSource() override
@@ -297,7 +310,11 @@ class TailSource : public PoseSource
             }
             in.read(buf, sizeof buf);
             const auto n = in.gcount();
-            if (n > 0) feeder_.bytes(buf, size_t(n));
+            if (n > 0 && !feeder_.bytes(buf, size_t(n)))
+            {
+                in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');  // on after the long line
+                in.clear();
+            }
             if (in.eof())
             {
                 in.clear();  // more may be appended
