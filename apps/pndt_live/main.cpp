@@ -16,6 +16,7 @@
 #include <pndt/mrpt/config_section.h>
 
 #include <atomic>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -85,17 +86,20 @@ int runLive(int argc, char** argv)
         ->capture_default_str();
     app.add_option("--pose-frame", pose_frame, "robot | camera (default: robot for rtabmap*, camera for tum)");
     app.add_option("--clock-offset", clock_offset, "seconds added to pose stamps (localiser clock -> frame clock)");
-    app.add_option("--pose-wait", pose_wait, "seconds a frame waits for a pose at or after its stamp, then it is "
-                                             "skipped and counted")
-        ->capture_default_str();
+    app.add_option("--pose-wait", pose_wait, "seconds a frame waits (from its capture) for a pose at or after its "
+                                             "stamp, then it is skipped and counted")
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
     app.add_option("--stamps", stamps, "frame clock: device (the camera's frame stamps; openni2 default) or host "
                                        "(time of grab; the only one --capture mrpt has)")
         ->check(CLI::IsMember({"device", "host"}));
     app.add_option("--grab-timeout", grab_timeout, "seconds without a frame after which the camera counts as lost")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
     app.add_option("--label-wait", label_wait, "seconds the mapper waits for a frame's labels before mapping it "
                                                "geometry-only")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
     app.add_option("--model", model, "segmentation model description (JSON); without it the map is geometry-only");
     app.add_option("--up", up, "gravity up in the poses' world frame, 'x y z' (segmentation)");
     app.add_option("--record", record, "write what was seen (depth, colour, labels, poses) as a rawlog; "
@@ -111,15 +115,17 @@ int runLive(int argc, char** argv)
                    "--record-minutes minutes)")
         ->check(CLI::PositiveNumber);
     app.add_option("--max-frames", max_frames, "stop after this many captured frames (0 = until Ctrl-C)");
-    app.add_option("--seconds", seconds, "stop after this many seconds (0 = until Ctrl-C)");
+    app.add_option("--seconds", seconds, "stop after this many seconds (0 = until Ctrl-C)")->check(CLI::NonNegativeNumber);
     app.add_option("-o,--out", out_dir, "output folder (as pndt-map)")->capture_default_str();
     app.add_option("-p,--preset", presets, "preset from config/presets (as pndt-map)")
         ->delimiter(',')
         ->check(CLI::IsMember({"scannet", "hypersim", "realworld", "paper", "detector"}));
     app.add_option("-c,--config", configs, ".ini files layered over the defaults (repeatable)");
     app.add_option("-s,--set", sets, "override: section.key=value (repeatable)");
-    app.add_option("--period", period, "short-term map period (config period_unit; 0 = one map)");
-    app.add_option("--voxel-size", voxel_size, "voxel size in metres");
+    // Given values go to the config (as pndt-map): out of range is an error, never "not given".
+    CLI::Option* period_opt = app.add_option("--period", period, "short-term map period (config period_unit; 0 = one map)")
+                                  ->check(CLI::NonNegativeNumber);
+    CLI::Option* voxel_opt = app.add_option("--voxel-size", voxel_size, "voxel size in metres")->check(CLI::PositiveNumber);
     bool no_maps_rawlog = false, rawlog_inputs = false;
     app.add_flag("--no-maps-rawlog", no_maps_rawlog, "do not write maps.rawlog (config maps_rawlog; as pndt-map)");
     app.add_flag("--rawlog-inputs", rawlog_inputs,
@@ -129,6 +135,13 @@ int runLive(int argc, char** argv)
     RefineCli refine_cli;  // as pndt-map's
     refine_cli.addTo(app);
     CLI11_PARSE(app, argc, argv);
+    // CLI11's number checks let NaN through.
+    for (const double v : {clock_offset, pose_wait, seconds, period, voxel_size, grab_timeout, label_wait, record_minutes})
+        if (!std::isfinite(v))
+        {
+            fmt::print(stderr, "pndt-live: error: every number option takes a finite number, not {}\n", v);
+            return kExitError;
+        }
     if ((record_minutes > 0 || record_keep > 0) && record.empty())
     {
         fmt::print(stderr, "pndt-live: error: --record-minutes and --record-keep need --record\n");
@@ -146,7 +159,14 @@ int runLive(int argc, char** argv)
             ? (record_path.parent_path() / (record_path.stem().string() + "-NNNN" + record_path.extension().string()))
                   .string()
             : record;
-    // A cut recording never overwrites an earlier one (after a crash it may be all there is of it).
+    // A recording never overwrites an earlier one (after a crash it may be all there is of it).
+    if (!record.empty() && record_minutes <= 0 && std::filesystem::exists(record))
+    {
+        fmt::print(stderr, "pndt-live: error: {} is there from an earlier recording; give another --record name or "
+                           "move it\n",
+                   record);
+        return kExitError;
+    }
     if (record_minutes > 0)
         if (const auto earlier = numberedRawlogsOf(record); !earlier.empty())
         {
@@ -177,8 +197,8 @@ int runLive(int argc, char** argv)
         std::vector<std::string> files = {config + "/panoptic_ndt.ini", config + "/pndt_map.ini"};
         for (const auto& preset : presets) files.push_back(config + "/presets/" + preset + ".ini");
         files.insert(files.end(), configs.begin(), configs.end());
-        if (period >= 0) sets.push_back(fmt::format("pndt-map.period={}", period));
-        if (voxel_size > 0) sets.push_back(fmt::format("MAP_PanopticNDTMap_00_creationOpts.voxel_size={}", voxel_size));
+        if (period_opt->count()) sets.push_back(fmt::format("pndt-map.period={}", period));
+        if (voxel_opt->count()) sets.push_back(fmt::format("MAP_PanopticNDTMap_00_creationOpts.voxel_size={}", voxel_size));
         if (no_maps_rawlog) sets.push_back("pndt-map.maps_rawlog=false");
         short_term_cli.addSetsTo(sets);
         if (rawlog_inputs) sets.push_back("pndt-map.maps_rawlog_inputs=true");
@@ -219,13 +239,18 @@ int runLive(int argc, char** argv)
             {
                 std::istringstream in(up);
                 Eigen::Vector3d u;
-                if (!(in >> u.x() >> u.y() >> u.z())) throw std::runtime_error("--up '" + up + "' is not 'x y z'");
+                if (!(in >> u.x() >> u.y() >> u.z()) || !u.allFinite() || u.norm() < 1e-9)
+                    throw std::runtime_error("--up '" + up + "' is not 'x y z' (finite, not all zero)");
                 so.up_world = u.normalized();
             }
             segmenter = seg::loadSegmenter(model, classes, so);
         }
 
         // ---- poses
+        // [pndt-map]'s pose keys as pndt-map reads them, where the command line does not say.
+        if (!app.count("--pose-format")) pose_format = settings.pose_format;
+        if (!app.count("--pose-frame")) pose_frame = settings.pose_frame;
+        if (pose_file.empty() && settings.pose_source == "file") pose_file = settings.pose_file;
         if (pose_tcp < 0 && pose_udp < 0 && pose_file.empty() && pose_grabber.empty())
             throw std::runtime_error(
                 "no pose source: give --pose-tcp PORT, --pose-udp PORT, --pose-file FILE or --pose-grabber INI:SECTION");
@@ -400,19 +425,23 @@ int runLive(int argc, char** argv)
         }
         else
             fmt::print(stderr, "pndt-live: no frame was mapped (no poses for the frames?): no map written\n");
+        const bool map_written = maps.current() != nullptr;
         if (s.camera_lost)
         {
-            fmt::print(stderr, "pndt-live: camera lost: {} after {} frames; the map holds what was mapped before "
-                               "and was written (exit code {})\n",
-                       s.camera_error, s.captured, kExitCameraLost);
+            fmt::print(stderr, "pndt-live: camera lost: {} after {} frames; {} (exit code {})\n", s.camera_error,
+                       s.captured,
+                       map_written ? "the map holds what was mapped before and was written" : "no frame was mapped",
+                       kExitCameraLost);
             return kExitCameraLost;
         }
-        if (g_stop) fmt::print("pndt-live: stopped; the current map was finalised and written\n");
+        if (g_stop)
+            fmt::print("pndt-live: stopped; {}\n",
+                       map_written ? "the current map was finalised and written" : "no frame was mapped, no map written");
     }
     catch (const io::WriteError& e)
     {
         fmt::print(stderr, "pndt-live: error: {}\n", e.what());
-        if (maps_started)
+        if (maps_started && std::filesystem::exists(std::filesystem::path(out_dir) / "index.json"))
             fmt::print(stderr, "pndt-live: mapping stopped; the maps listed in {}/index.json are complete\n", out_dir);
         if (recording_started)
             fmt::print(stderr, "pndt-live: the recording {} holds what was written before the error (pndt-map replays "

@@ -588,6 +588,40 @@ TEST_F(LiveCli, AStopWhilePosesHaveStoppedEndsWithinOnePoseWait)
     EXPECT_TRUE(fs::exists(dir / "live" / "map_0000.pndt.gz"));
 }
 
+TEST_F(LiveCli, NumberOptionsAnEarlierRecordingAndThePoseKeysOfTheConfig)
+{
+    camera("");
+    const auto run = [&](const std::string& args) {
+        const int rc = sh(fmt::format("cd {0} && PNDT_VIRTUAL_CAMERA={0}/camera.cfg LD_LIBRARY_PATH={1} timeout 60 {2} "
+                                      "-o {0}/o {3} > opt.out 2>&1",
+                                      dir.string(), PNDT_ONI_DIR, PNDT_LIVE_EXE, args));
+        out = slurp(dir / "opt.out");
+        return rc;
+    };
+    // Values that are no values: errors naming the option, not defaults or a false "camera lost".
+    for (const char* bad : {"--grab-timeout 0", "--grab-timeout -1", "--pose-wait -1", "--voxel-size -1",
+                            "--period -1", "--clock-offset nan", "--seconds -2"})
+    {
+        EXPECT_NE(run(std::string("--pose-file poses.txt ") + bad), 0) << bad << "\n" << out;
+        EXPECT_EQ(out.find("camera lost"), std::string::npos) << bad << "\n" << out;
+        EXPECT_EQ(out.find("frames captured"), std::string::npos) << bad << "\n" << out;
+    }
+    EXPECT_EQ(run("--pose-file poses.txt --model missing.json --up '0 0 0'"), 1) << out;
+    // A recording is never overwritten by the next run under the same name.
+    std::ofstream(dir / "earlier.rawlog") << "an earlier recording";
+    EXPECT_EQ(run("--pose-file poses.txt --record earlier.rawlog --max-frames 5"), 1) << out;
+    EXPECT_NE(out.find("earlier.rawlog is there from an earlier recording"), std::string::npos) << out;
+    EXPECT_EQ(slurp(dir / "earlier.rawlog"), "an earlier recording");
+    // [pndt-map] pose_source / pose_file / pose_format, as pndt-map reads them (they were accepted
+    // and ignored: "no pose source", or every line refused as rtabmap11).
+    ASSERT_EQ(run("--max-frames 20 -s pndt-map.pose_source=file -s pndt-map.pose_file=poses.txt "
+                  "-s pndt-map.pose_format=tum"),
+              0)
+        << out;
+    EXPECT_GE(number(out, R"(frames mapped\s+: (\d+))"), 15u) << out;
+    EXPECT_EQ(out.find("pose ignored"), std::string::npos) << out;
+}
+
 TEST_F(LiveCli, MapsRawlogOptionsAsPndtMap)
 {
     camera("");
