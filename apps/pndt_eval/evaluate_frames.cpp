@@ -41,6 +41,13 @@ FrameScores evaluateFrames(const PanopticMap& map, const std::string& split_dir,
             continue;
         }
         const io::RgbdFrame f = seq.load(i, load);
+        // Named with its file here (the evaluator would only give a pixel index).
+        for (size_t k = 0; k < f.semantic_gt.data.size(); ++k)
+            if (f.semantic_gt.data[k] >= bench.classes().size())
+                throw InputError(fmt::format("{}: pixel (row {}, col {}): class {} is outside the benchmark's classes 0..{}",
+                                             rec.semantic_path, k / size_t(f.semantic_gt.width),
+                                             k % size_t(f.semantic_gt.width), f.semantic_gt.data[k],
+                                             bench.classes().size() - 1));
         Image<uint32_t> gt_instance;
         gt_instance.resize(f.semantic_gt.width, f.semantic_gt.height, 0u);
         if (!f.instance_gt.data.empty())

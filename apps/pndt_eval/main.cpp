@@ -29,14 +29,29 @@ eval::Benchmark benchmarkNamed(const std::string& name)
 }
 
 eval::GtPoints readGroundTruth(const std::string& gt_ply, const std::string& points_ply, const std::string& gt_text,
-                               uint32_t shift)
+                               uint32_t shift, const eval::Benchmark& bench)
 {
-    if (!gt_ply.empty()) return eval::readPlyPoints(gt_ply, true);
-    eval::GtPoints gt = eval::readPlyPoints(points_ply, false);
-    gt.labels = eval::panopticFromShifted(eval::readLabelText(gt_text), shift, gt_text);
-    if (gt.labels.size() != gt.points.size())
-        throw InputError(fmt::format("{} has {} labels but {} has {} vertices: they must match line for vertex",
-                                     gt_text, gt.labels.size(), points_ply, gt.points.size()));
+    eval::GtPoints gt;
+    if (!gt_ply.empty())
+        gt = eval::readPlyPoints(gt_ply, true);
+    else
+    {
+        gt = eval::readPlyPoints(points_ply, false);
+        gt.labels = eval::panopticFromShifted(eval::readLabelText(gt_text), shift, gt_text);
+        if (gt.labels.size() != gt.points.size())
+            throw InputError(fmt::format("{} has {} labels but {} has {} vertices: they must match line for vertex",
+                                         gt_text, gt.labels.size(), points_ply, gt.points.size()));
+    }
+    // Checked here, naming the file, before any map is loaded (a wrong --gt-shift is the likely cause).
+    const size_t classes = bench.classes().size();
+    for (size_t i = 0; i < gt.labels.size(); ++i)
+        if ((gt.labels[i] >> 16) >= classes)
+            throw InputError(fmt::format(
+                "{}: {} {}: class {} is outside the benchmark's classes 0..{}{}", gt_ply.empty() ? gt_text : gt_ply,
+                gt_ply.empty() ? "line" : "vertex", gt_ply.empty() ? i + 1 : i, gt.labels[i] >> 16, classes - 1,
+                gt_ply.empty() ? fmt::format(" (label {} with --gt-shift {}: is the shift right?)",
+                                             uint64_t(gt.labels[i] >> 16) * shift + (gt.labels[i] & 0xFFFF), shift)
+                               : ""));
     return gt;
 }
 }  // namespace
@@ -88,7 +103,7 @@ int main(int argc, char** argv)
         const std::vector<std::string> maps = evalapp::mapFiles(map_arg);
         eval::GtPoints gt;
         const bool three_d = !gt_ply.empty() || !points_ply.empty();
-        if (three_d) gt = readGroundTruth(gt_ply, points_ply, gt_text, shift);
+        if (three_d) gt = readGroundTruth(gt_ply, points_ply, gt_text, shift, bench);
         nlohmann::json out = nlohmann::json::array();
         for (const std::string& path : maps)
         {

@@ -199,6 +199,27 @@ TEST(PndtEvalApp, BadInputIsNamed)
     r = run(fx.map_file + " --points " + unlabelled + " --gt-text " + (fx.dir / "short.txt").string());
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.out.find("short.txt has 2 labels but"), std::string::npos) << r.out;
+    // A class outside the benchmark (a wrong --gt-shift, the likeliest mistake): named with its
+    // file and line before any map is loaded (it was "PanopticQuality: GT class id 131 at index 0").
+    {
+        std::ofstream t(fx.dir / "shifted.txt");
+        for (size_t i = 0; i < fx.points.size(); ++i) t << (i == 3 ? 131000 : 1000) << "\n";
+    }
+    r = run(fx.map_file + " --points " + unlabelled + " --gt-text " + (fx.dir / "shifted.txt").string() +
+            " --gt-shift 1000");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.out.find("shifted.txt: line 4: class 131 is outside the benchmark's classes 0..40 (label 131000 with "
+                         "--gt-shift 1000: is the shift right?)"),
+              std::string::npos)
+        << r.out;
+    EXPECT_EQ(r.out.find("voxels,"), std::string::npos) << r.out;
+    Fixture bad_class = fx;
+    bad_class.labels[5] = eval::encodePanoptic(200, 0);
+    const std::string bad_ply = bad_class.writePly("badclass.ply", true);
+    r = run(fx.map_file + " --gt-ply " + bad_ply);
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.out.find(bad_ply + ": vertex 5: class 200 is outside the benchmark's classes 0..40"), std::string::npos)
+        << r.out;
     // GT of another place: the map labels none of it.
     Fixture far;
     for (auto& p : far.points) p.z() += 50;

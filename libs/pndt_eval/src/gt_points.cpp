@@ -140,7 +140,13 @@ GtPoints readPlyPoints(const std::string& path, bool with_labels)
                 if (!(f >> v[i])) throw InputError(fmt::format("{}: truncated or bad number at vertex {} of {}", path, k, count));
         out.points[k] = {v[size_t(ix)], v[size_t(iy)], v[size_t(iz)]};
         if (!out.points[k].allFinite()) throw InputError(fmt::format("{}: vertex {} is not finite", path, k));
-        if (with_labels) out.labels[k] = uint32_t(v[size_t(il)]);
+        if (with_labels)
+        {
+            const double l = v[size_t(il)];
+            if (!(l >= 0 && l <= double(UINT32_MAX) && l == std::floor(l)))
+                throw InputError(fmt::format("{}: vertex {}: label {} is not a whole number in 0..{}", path, k, l, UINT32_MAX));
+            out.labels[k] = uint32_t(l);
+        }
     }
     return out;
 }
