@@ -497,7 +497,7 @@ ConvertReport convertSequence(const ConvertOptions& o, const ProgressFn& progres
 
         PanopticFrame pf;
         io::RgbdFrame f;
-        bool labels_missing = false;
+        bool labels_missing = false, instances_missing = false;
         try
         {
             f = seq.load(idx, lo);
@@ -514,7 +514,10 @@ ConvertReport convertSequence(const ConvertOptions& o, const ProgressFn& progres
             else if (labels == "gt")
             {
                 if (!f.semantic_gt.empty())
+                {
                     attachGroundTruth(f, rec, pf);
+                    instances_missing = f.instance_gt.empty() && rec.instance_path.empty();
+                }
                 else
                     labels_missing = true;
             }
@@ -540,6 +543,7 @@ ConvertReport convertSequence(const ConvertOptions& o, const ProgressFn& progres
         ++report.frames_written;
         if (pf.hasLabels()) ++report.frames_with_labels;
         if (labels_missing) ++report.frames_labels_missing;
+        if (instances_missing) ++report.frames_instances_missing;
         if (rgb) ++report.frames_with_color;
     }
     if (progress) progress(selected.size(), selected.size());
@@ -574,6 +578,10 @@ std::string formatReport(const ConvertReport& r, const ConvertOptions& o)
                      r.frames_labels_missing ? fmt::format(" ({} frames had no labels: geometry only)",
                                                            r.frames_labels_missing)
                                              : "");
+    if (r.frames_instances_missing)
+        s += fmt::format("  without instances  : {} frames had semantic but no instance labels (their things have no "
+                         "instance ids)\n",
+                         r.frames_instances_missing);
     s += fmt::format("  with colour        : {}\n", r.frames_with_color);
     s += fmt::format("  frames skipped     : {}\n", r.skippedTotal());
     for (const auto& [reason, n] : r.skipped) s += fmt::format("    {:>6}  {}\n", n, reason);
@@ -611,6 +619,7 @@ std::string reportJson(const ConvertReport& r, const ConvertOptions& o)
     j["frames_written"] = r.frames_written;
     j["frames_with_labels"] = r.frames_with_labels;
     j["frames_labels_missing"] = r.frames_labels_missing;
+    j["frames_instances_missing"] = r.frames_instances_missing;
     j["frames_with_color"] = r.frames_with_color;
     j["frames_skipped"] = r.skippedTotal();
     j["skipped"] = nlohmann::json::object();

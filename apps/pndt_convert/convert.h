@@ -97,6 +97,7 @@ struct ConvertReport
     size_t frames_written = 0;
     size_t frames_with_labels = 0;
     size_t frames_labels_missing = 0;  ///< labels expected but absent for the frame → geometry only
+    size_t frames_instances_missing = 0;  ///< ground truth: a semantic image without its instance image
     size_t frames_with_color = 0;
     /// Skipped frames by reason ("no pose: ...", "unreadable frame").
     std::map<std::string, size_t> skipped;

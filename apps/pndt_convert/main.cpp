@@ -46,7 +46,7 @@ int main(int argc, char** argv)
                       "gravity up \"x y z\" in the poses' world frame (detector planes; default: camera -y)");
 
     auto* g_in = app.add_option_group("input");
-    g_in->add_option("--depth-scale", depth_scale, "depth units per metre (default: 1000; TUM 5000)");
+    auto* depth_scale_opt = g_in->add_option("--depth-scale", depth_scale, "depth units per metre (default: 1000; TUM 5000)");
     g_in->add_option("--frame-rate", o.frame_rate_hz, "Hz, stamps of stampless sequences (t = i / rate)")
         ->capture_default_str();
     g_in->add_option("--intrinsics", o.intrinsics_file, "Open3D intrinsics JSON overriding the folder's");
@@ -99,7 +99,7 @@ int main(int argc, char** argv)
 
     try
     {
-        if (depth_scale != 0) o.depth_units_per_metre = depth_scale;
+        if (depth_scale_opt->count()) o.depth_units_per_metre = depth_scale;  // 0 given is an error, not the default
         if (!sensor_pose.empty()) o.sensor_pose = parseSensorPose(sensor_pose);
         o.color = !no_color;
 

@@ -291,47 +291,58 @@ int main(int argc, char** argv)
             integrateDone();
             bar.update(double(i + 1) / double(source->size()), mapped);
         }
-        while (stream && more())
+        // A label error names the sensor and stamp; the input file is said here (a rawlog's
+        // objects are decoded ahead of mapping, so which object it was is not known here).
+        try
         {
-            auto& in = *stream;
-            const auto obs = in.next();
-            if (!obs) break;
-            if (settings.maps_rawlog_inputs && maps.rawlog()) maps.rawlog()->addInput(obs);
-            if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(obs))
+            while (stream && more())
             {
-                if (!scan->hasRangeImage) continue;
-                if (!settings.rgbd_label.empty() && scan->sensorLabel != settings.rgbd_label)
+                auto& in = *stream;
+                const auto obs = in.next();
+                if (!obs) break;
+                if (settings.maps_rawlog_inputs && maps.rawlog()) maps.rawlog()->addInput(obs);
+                if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(obs))
                 {
-                    ++other_sensor;
-                    continue;
+                    if (!scan->hasRangeImage) continue;
+                    if (!settings.rgbd_label.empty() && scan->sensorLabel != settings.rgbd_label)
+                    {
+                        ++other_sensor;
+                        continue;
+                    }
+                    ++scans;
+                    if (!inTimeOrder(mrpt::Clock::toDouble(scan->timestamp))) continue;
+                    if (poses_in_stream)
+                    {
+                        waiting.push_back(scan);
+                        placeWaiting(false);
+                    }
+                    else
+                        placeScan(*scan);
                 }
-                ++scans;
-                if (!inTimeOrder(mrpt::Clock::toDouble(scan->timestamp))) continue;
-                if (poses_in_stream)
+                else if (auto pose = std::dynamic_pointer_cast<mrpt::obs::CObservationRobotPose>(obs))
                 {
-                    waiting.push_back(scan);
-                    placeWaiting(false);
+                    if (poses_in_stream && track->addRobotPose(*pose)) placeWaiting(false);
                 }
-                else
-                    placeScan(*scan);
+                else if (auto img = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(obs))
+                    pairer.push(*img, mrpt::poses::CPose3D(), done);
+                integrateDone();
+                bar.update(in.progress(), mapped);
             }
-            else if (auto pose = std::dynamic_pointer_cast<mrpt::obs::CObservationRobotPose>(obs))
-            {
-                if (poses_in_stream && track->addRobotPose(*pose)) placeWaiting(false);
-            }
-            else if (auto img = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(obs))
-                pairer.push(*img, mrpt::poses::CPose3D(), done);
+            if (stream) placeWaiting(true);
+            if (poses_in_stream && track->empty() && !stream->truncated())
+                throw std::runtime_error(fmt::format("{}: no CObservationRobotPose{} in the rawlog; give a pose file", input,
+                                                     settings.pose_label.empty()
+                                                         ? ""
+                                                         : " labelled '" + settings.pose_label + "'"));
+            pairer.flush(done);
             integrateDone();
-            bar.update(in.progress(), mapped);
         }
-        if (stream) placeWaiting(true);
-        if (poses_in_stream && track->empty() && !stream->truncated())
-            throw std::runtime_error(fmt::format("{}: no CObservationRobotPose{} in the rawlog; give a pose file", input,
-                                                 settings.pose_label.empty()
-                                                     ? ""
-                                                     : " labelled '" + settings.pose_label + "'"));
-        pairer.flush(done);
-        integrateDone();
+        catch (const InputError& e)
+        {
+            const std::string what = e.what();
+            if (what.rfind(input, 0) == 0) throw;
+            throw InputError(fmt::format("{}: {}", input, what));
+        }
         bar.update(1.0, mapped);
         bar.finish();
         maps.finish();
