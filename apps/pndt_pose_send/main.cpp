@@ -49,8 +49,9 @@ int main(int argc, char** argv)
     app.add_flag("--udp", udp, "send datagrams instead of a TCP stream");
     app.add_option("--format", format, "line format, checked before sending: tum, rtabmap10, rtabmap11")
         ->capture_default_str();
-    app.add_option("--rate", rate, "poses per second (0 = as fast as possible); default: paced by the stamps");
-    app.add_option("--speed", speed, "with stamp pacing: replay speed factor")->capture_default_str();
+    app.add_option("--rate", rate, "poses per second (0 = as fast as possible); default: paced by the stamps")
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--speed", speed, "with stamp pacing: replay speed factor")->capture_default_str()->check(CLI::PositiveNumber);
     app.add_option("--stamp-offset", stamp_offset,
                    "seconds added to every stamp sent (e.g. device time -> host clock for pndt-live --capture mrpt)");
     app.add_option("--max-poses", max_poses, "stop after this many poses (a localiser that stops)");
@@ -62,7 +63,12 @@ int main(int argc, char** argv)
         const auto colon = to.rfind(':');
         if (colon == std::string::npos) throw std::runtime_error("--to '" + to + "' is not host:port");
         const std::string host = to.substr(0, colon);
-        const int port = std::stoi(to.substr(colon + 1));
+        const std::string port_text = to.substr(colon + 1);
+        const int port = port_text.find_first_not_of("0123456789") == std::string::npos && !port_text.empty() &&
+                                 port_text.size() <= 5
+                             ? std::stoi(port_text)
+                             : -1;
+        if (port < 1 || port > 65535) throw std::runtime_error("--to '" + to + "': the port must be 1-65535");
         const auto lf = live::parseLineFormat(format);
         // Read and check every line first: a bad file fails before anything is sent.
         std::ifstream in(file);
@@ -82,18 +88,22 @@ int main(int argc, char** argv)
         if (lines.empty()) throw std::runtime_error(file + ": no poses");
 
         int fd = -1;
+        size_t sent = 0, reconnects = 0, refused = 0;
         const auto connect = [&] {
             const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(connect_timeout);
             while ((fd = connectTo(host, port, udp)) < 0)
             {
                 if (std::chrono::steady_clock::now() > until)
-                    throw std::runtime_error(fmt::format("cannot connect to {} for {} s", to, connect_timeout));
+                    throw std::runtime_error(
+                        sent ? fmt::format("the receiver at {} went away after {} of {} poses and did not come back "
+                                           "within {} s",
+                                           to, sent, lines.size(), connect_timeout)
+                             : fmt::format("cannot connect to {} for {} s", to, connect_timeout));
                 std::this_thread::sleep_for(std::chrono::milliseconds(50));
             }
         };
         connect();
         const auto t0 = std::chrono::steady_clock::now();
-        size_t sent = 0, reconnects = 0;
         for (size_t i = 0; i < lines.size(); ++i)
         {
             if (rate > 0)
@@ -101,6 +111,13 @@ int main(int argc, char** argv)
             else if (rate < 0 && speed > 0)
                 std::this_thread::sleep_until(t0 + std::chrono::duration<double>((lines[i].first - lines[0].first) / speed));
             const std::string& l = lines[i].second;
+            if (udp)
+            {
+                // A datagram is not sent again: one refused (nothing listening) is counted.
+                if (::send(fd, l.data(), l.size(), MSG_NOSIGNAL) != ssize_t(l.size())) ++refused;
+                ++sent;
+                continue;
+            }
             while (::send(fd, l.data(), l.size(), MSG_NOSIGNAL) != ssize_t(l.size()))
             {
                 ::close(fd);  // the receiver went away: reconnect, send this pose again
@@ -110,8 +127,16 @@ int main(int argc, char** argv)
             ++sent;
         }
         ::close(fd);
-        fmt::print("pndt-pose-send: {} poses sent to {} in {:.2f} s ({} reconnects)\n", sent, to,
-                   std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), reconnects);
+        fmt::print("pndt-pose-send: {} poses sent to {} in {:.2f} s ({}{})\n", sent, to,
+                   std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+                   udp ? fmt::format("{} refused", refused) : fmt::format("{} reconnects", reconnects),
+                   refused ? ": nothing listening there?" : "");
+        if (udp && refused > 0 && refused * 4 >= sent)  // ICMP refusals arrive late: every other datagram at full rate
+        {
+            fmt::print(stderr, "pndt-pose-send: error: {} of {} datagrams to {} were refused (nothing listening?)\n",
+                       refused, sent, to);
+            return 1;
+        }
     }
     catch (const std::exception& e)
     {

@@ -893,3 +893,35 @@ TEST_F(LiveCli, RefineWritesRefinedPosesAndEqualsTheReplayWithRefine)
     expectReplayEqualsLive(mapped, "--period 0 --refine", 1);
     EXPECT_EQ(slurp(dir / "live" / "refined_poses.tum"), slurp(dir / "replay" / "refined_poses.tum"));
 }
+
+// pndt-pose-send's own checks: a port out of range, datagrams nobody takes, a localiser
+// whose receiver goes away (it said "cannot connect" without saying it had sent poses).
+TEST(PoseSend, BadPortsRefusedDatagramsAndAReceiverThatWentAwayAreSaid)
+{
+    const fs::path dir = fs::temp_directory_path() / fmt::format("pndt_pose_send_{}", ::getpid());
+    fs::create_directories(dir);
+    std::ofstream(dir / "p.txt") << "1 0 0 0 0 0 0 1\n2 0 0 0 0 0 0 1\n3 0 0 0 0 0 0 1\n4 0 0 0 0 0 0 1\n";
+    const auto send = [&](const std::string& args) {
+        const int rc = sh(fmt::format("cd {} && {} p.txt --format tum {} > out.txt 2>&1", dir.string(),
+                                      PNDT_POSE_SEND_EXE, args));
+        return std::make_pair(rc, slurp(dir / "out.txt"));
+    };
+    auto [rc, out] = send("--to 127.0.0.1:99999");
+    EXPECT_EQ(rc, 1) << out;
+    EXPECT_NE(out.find("the port must be 1-65535"), std::string::npos) << out;
+    std::tie(rc, out) = send("--udp --to 127.0.0.1:9 --rate 100");  // the discard port: nothing listens here
+    EXPECT_EQ(rc, 1) << out;
+    EXPECT_NE(out.find("were refused (nothing listening?)"), std::string::npos) << out;
+    std::tie(rc, out) = send("--speed 0");
+    EXPECT_NE(rc, 0) << out;
+    // A receiver that takes the first line and closes: the poses already sent are said.
+    const int port = 25000 + int(::getpid() % 5000);
+    sh(fmt::format("cd {1} && (timeout 5 python3 -c \"import socket; s=socket.socket(); "
+                   "s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1); s.bind(('127.0.0.1', {0})); s.listen(1); "
+                   "c,_=s.accept(); c.recv(40); c.close(); s.close()\" &) ; sleep 0.5; "
+                   "{2} p.txt --format tum --to 127.0.0.1:{0} --rate 20 --connect-timeout 0.5 > out.txt 2>&1",
+                   port, dir.string(), PNDT_POSE_SEND_EXE));
+    out = slurp(dir / "out.txt");
+    EXPECT_NE(out.find("went away after"), std::string::npos) << out;
+    fs::remove_all(dir);
+}
