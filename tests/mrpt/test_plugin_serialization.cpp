@@ -610,6 +610,29 @@ TEST(PluginFiles, ArchiveFileRoundTripAndForeignFiles)
     std::ofstream(junk) << "this is not an MRPT archive at all";
     EXPECT_THROW(loadMapArchive(junk), std::runtime_error);
     EXPECT_THROW(loadMapArchive((dir / "missing.gz").string()), std::runtime_error);
+    // Cut in its gzip trailer (the CRC and size, after the whole object): a stream read stopped
+    // after the object and loaded it as complete; the gzip checks now run.
+    std::string whole;
+    {
+        std::ifstream in(path, std::ios::binary);
+        whole.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    for (const size_t cut : {size_t(1), size_t(4), size_t(8)})
+    {
+        const std::string cut_path = (dir / ("cut" + std::to_string(cut) + ".pndt.gz")).string();
+        std::ofstream(cut_path, std::ios::binary) << whole.substr(0, whole.size() - cut);
+        try
+        {
+            loadMapArchive(cut_path);
+            ADD_FAILURE() << "a map file without its last " << cut << " bytes loaded";
+        }
+        catch (const std::runtime_error& e)
+        {
+            EXPECT_NE(std::string(e.what()).find(cut_path + ": not a readable map archive: the compressed data is cut"),
+                      std::string::npos)
+                << e.what();
+        }
+    }
     fs::remove_all(dir);
 }
 

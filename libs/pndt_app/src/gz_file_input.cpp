@@ -47,7 +47,16 @@ size_t GzFileInput::Read(void* buffer, size_t count)
         }
         total += size_t(got);
         position_ += uint64_t(got);
-        if (unsigned(got) < chunk) break;  // end of the file
+        if (unsigned(got) < chunk)
+        {
+            // The end of the file: zlib says Z_BUF_ERROR when it came inside the gzip stream
+            // (a file cut in its last bytes, the CRC trailer, would otherwise read as complete).
+            int code = 0;
+            const char* message = gzerror(handle(gz_), &code);
+            if (code == Z_BUF_ERROR)
+                throw std::runtime_error(fmt::format("the compressed data ends early ({})", message));
+            break;
+        }
     }
     return total;
 }

@@ -1,5 +1,4 @@
 #include <fmt/format.h>
-#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/serialization/CArchive.h>
@@ -59,8 +58,25 @@ void saveArchive(const mrpt::serialization::CSerializable& obj, const std::strin
 PanopticNDTMap::Ptr loadMapArchive(const std::string& path)
 {
     if (!std::filesystem::exists(path)) throw std::runtime_error(fmt::format("{}: no such file", path));
-    mrpt::io::CFileGZInputStream f;
-    if (!f.open(path)) throw std::runtime_error(fmt::format("{}: cannot open", path));
+    // The whole file through zlib first: a stream read stops after the object and never
+    // reaches the gzip trailer, so a file cut in its last bytes loaded as complete.
+    std::string bytes;
+    {
+        gzFile gz = gzopen(path.c_str(), "rb");
+        if (!gz) throw std::runtime_error(fmt::format("{}: cannot open", path));
+        char buf[1 << 16];
+        int got = 0;
+        while ((got = gzread(gz, buf, sizeof buf)) > 0) bytes.append(buf, size_t(got));
+        int code = 0;
+        const std::string message = gzerror(gz, &code);
+        gzclose(gz);
+        if (got < 0 || (code != Z_OK && code != Z_STREAM_END))
+            throw std::runtime_error(fmt::format("{}: not a readable map archive: the compressed data is cut or "
+                                                 "corrupt ({})",
+                                                 path, message));
+    }
+    mrpt::io::CMemoryStream f;
+    f.assignMemoryNotOwn(bytes.data(), bytes.size());
     mrpt::serialization::CSerializable::Ptr obj;
     try
     {
