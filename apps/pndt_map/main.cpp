@@ -206,7 +206,7 @@ int main(int argc, char** argv)
         pairer.options = prototype->insertionOptions;
         ProgressBar bar("pndt-map", !no_progress);
         std::vector<PairedFrame> done;
-        uint64_t scans = 0, mapped = 0, labelled = 0, no_pose = 0, other_sensor = 0, not_after = 0;
+        uint64_t observations = 0, scans = 0, mapped = 0, labelled = 0, no_pose = 0, other_sensor = 0, not_after = 0;
         // Poses are looked up and maps handed over by frame time: a depth frame stamped no
         // later than the one before (a camera clock that started again) is skipped, counted.
         double last_scan_t = -std::numeric_limits<double>::infinity();
@@ -300,6 +300,7 @@ int main(int argc, char** argv)
                 auto& in = *stream;
                 const auto obs = in.next();
                 if (!obs) break;
+                ++observations;
                 if (settings.maps_rawlog_inputs && maps.rawlog()) maps.rawlog()->addInput(obs);
                 if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(obs))
                 {
@@ -329,6 +330,8 @@ int main(int argc, char** argv)
                 bar.update(in.progress(), mapped);
             }
             if (stream) placeWaiting(true);
+            if (stream && observations == 0 && !stream->truncated())
+                throw std::runtime_error(fmt::format("{}: the rawlog holds no observations (an empty file?)", input));
             if (poses_in_stream && track->empty() && !stream->truncated())
                 throw std::runtime_error(fmt::format("{}: no CObservationRobotPose{} in the rawlog; give a pose file", input,
                                                      settings.pose_label.empty()
@@ -432,8 +435,9 @@ int main(int argc, char** argv)
     }
     catch (const io::WriteError& e)
     {
-        fmt::print(stderr, "pndt-map: error: {}\npndt-map: mapping stopped; the maps listed in {}/index.json are complete\n",
-                   e.what(), out_dir);
+        fmt::print(stderr, "pndt-map: error: {}\n", e.what());
+        if (fs::exists(fs::path(out_dir) / "index.json"))
+            fmt::print(stderr, "pndt-map: mapping stopped; the maps listed in {}/index.json are complete\n", out_dir);
         return kExitWriteFailed;
     }
     catch (const std::exception& e)

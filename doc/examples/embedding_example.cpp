@@ -7,20 +7,71 @@
 //     panoptic CObservationImages per frame, with the robot pose from the localiser;
 //  3. the navigator asks for obstacles around the robot, a 2D grid for the planner,
 //     and objects ("the table with the most chairs") and a goal next to one.
-// Here the observations come from the tests' generated room (tests/nav/nav_test_scene.h)
-// instead of a camera.
+// Here the observations come from a generated room (pndt::sim: a table with six chairs)
+// instead of a camera. Only installed headers: it builds against find_package(PanopticNDT)
+// with PanopticNDT::nav and PanopticNDT::sim.
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/maps/CMultiMetricMap.h>
+#include <pndt/look_at.h>
 #include <pndt/mrpt/PanopticNDTMap.h>
 #include <pndt/mrpt/observation_frame.h>
 #include <pndt/nav/goal_pose.h>
 #include <pndt/nav/navigation_grid.h>
 #include <pndt/nav/object_query.h>
 #include <pndt/nav/path_planning.h>
+#include <pndt/sim/furniture.h>
+#include <pndt/sim/renderer.h>
+#include <pndt/sim/trajectory.h>
 
+#include <cmath>
 #include <iostream>
 
-#include "nav_test_scene.h"
+namespace
+{
+/// A 8 x 6 m room with a table and six chairs around it: what the camera would see.
+pndt::sim::Scene room()
+{
+    pndt::sim::Scene s;
+    s.room = Eigen::AlignedBox3d(Eigen::Vector3d(-4, -3, 0), Eigen::Vector3d(4, 3, 2.6));
+    const Eigen::Vector2d table(-1.83, 0.04);
+    pndt::sim::addTable(s, {Eigen::Vector3d(table.x(), table.y(), 0), 0}, 1, Eigen::Vector3d(1.6, 0.9, 0.75));
+    uint32_t id = 2;
+    for (const Eigen::Vector2d& d : {Eigen::Vector2d(-0.4, 0.8), Eigen::Vector2d(0.4, 0.8), Eigen::Vector2d(-0.4, -0.8),
+                                     Eigen::Vector2d(0.4, -0.8), Eigen::Vector2d(1.15, 0), Eigen::Vector2d(-1.15, 0)})
+        pndt::sim::addChair(s, {Eigen::Vector3d(table.x() + d.x(), table.y() + d.y(), 0), std::atan2(-d.y(), -d.x())},
+                            id++);  // facing the table
+    return s;
+}
+
+/// Around the table looking down at it, then from the middle of the room outwards.
+std::vector<pndt::Pose> cameraPoses()
+{
+    std::vector<pndt::Pose> poses = pndt::sim::orbit({-1.83, 0.04, 0}, 2.0, 1.6, 0.3, 16);
+    for (int k = 0; k < 12; ++k)
+    {
+        const double a = 2 * M_PI * k / 12;
+        const Eigen::Vector3d eye(0.2, -0.1, 1.4);
+        poses.push_back(pndt::lookAt(eye, eye + Eigen::Vector3d(3 * std::cos(a), 3 * std::sin(a), -1.3)));
+    }
+    return poses;
+}
+
+/// The frame a camera and a segmentation network would give at pose T.
+pndt::PanopticFrame renderFrame(const pndt::sim::Scene& scene, const pndt::Pose& T)
+{
+    const pndt::CameraIntrinsics K{240, 180, 120.0, 120.0, 119.5, 89.5};
+    pndt::sim::RenderedFrame r;
+    pndt::sim::render(scene, T, K, r);
+    pndt::PanopticFrame f;
+    f.K = K;
+    f.depth = r.depth;
+    f.semantic = r.semantic;
+    f.semantic_score.resize(K.width, K.height, 0.9f);
+    f.instance = r.instance;
+    f.panoptic_score.resize(K.width, K.height, 0.9f);
+    return f;
+}
+}  // namespace
 
 int main()
 {
@@ -40,9 +91,10 @@ voxel_size=0.10
 
     // 2. Observations with the robot's pose (here the camera is the robot).
     double t = 0;
-    for (const pndt::Pose& T_world_cam : navtest::cameraPoses())
+    const pndt::sim::Scene scene = room();
+    for (const pndt::Pose& T_world_cam : cameraPoses())
     {
-        const pndt::PanopticFrame frame = navtest::renderFrame(T_world_cam);  // your camera + segmentation
+        const pndt::PanopticFrame frame = renderFrame(scene, T_world_cam);  // your camera + segmentation
         const mrpt::poses::CPose3D robot = pndt::mrptSensorPoseOf(T_world_cam);    // your localiser
         mrpt::obs::CObservation3DRangeScan scan;
         pndt::rangeScanFrom(frame, scan);

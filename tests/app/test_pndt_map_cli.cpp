@@ -234,6 +234,17 @@ TEST(PndtMapCli, AMissingInputIsNamedAndLeavesNoOutput)
         EXPECT_NE(r.out.find(input), std::string::npos) << r.out;
         EXPECT_TRUE(!fs::exists(out / "m") || fs::is_empty(out / "m")) << input;
     }
+    // An empty file is said as such (it was "no CObservationRobotPose in the rawlog; give a pose file").
+    std::ofstream(out / "empty.rawlog").flush();
+    const RunResult r = run(mapExe() + (out / "empty.rawlog").string() + " -o " + (out / "e").string());
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.out.find("empty.rawlog: the rawlog holds no observations (an empty file?)"), std::string::npos) << r.out;
+    // An output path that is a file: no claim about an index.json there.
+    std::ofstream(out / "a_file") << "x";
+    const RunResult f = run(mapExe() + roomRawlog().string() + " -o " + (out / "a_file").string());
+    EXPECT_NE(f.code, 0) << f.out;
+    EXPECT_NE(f.out.find("a_file"), std::string::npos) << f.out;
+    EXPECT_EQ(f.out.find("index.json are complete"), std::string::npos) << f.out;
 }
 
 TEST(PndtMapCli, PoseProblemsAreReportedOrCounted)

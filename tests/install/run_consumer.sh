@@ -31,10 +31,12 @@ for f in include/pndt/build_config.h include/pndt/panoptic_map.h lib/libpndt_mrp
          share/panopticndt/config/reactive2d.ini; do
   [ -e "$PREFIX/$f" ] || { echo "not installed: $f" >&2; exit 1; }
 done
-cmake -S "$SRC" -B "$WORK/build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$PREFIX" > "$WORK/configure.log" \
+cmake -S "$SRC" -B "$WORK/build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$PREFIX" \
+  -DPNDT_EMBEDDING_EXAMPLE="$(cd "$SRC/../../../doc/examples" && pwd)/embedding_example.cpp" > "$WORK/configure.log" \
   || { cat "$WORK/configure.log" >&2; exit 1; }
 cmake --build "$WORK/build" > "$WORK/build.log" || { cat "$WORK/build.log" >&2; exit 1; }
 "$WORK/build/consumer"
+"$WORK/build/embedding_example" > "$WORK/example.log" || { cat "$WORK/example.log" >&2; echo "the embedding example failed" >&2; exit 1; }
 # The installed app finds its installed config (not the source tree's).
 "$PREFIX/bin/pndt-map" --help > /dev/null
 # pndt-nav's navigator settings (--planner tps, --simulate) come from the installed config too.
