@@ -55,22 +55,6 @@ std::vector<pndt::Pose> cameraPoses()
     }
     return poses;
 }
-
-/// The frame a camera and a segmentation network would give at pose T.
-pndt::PanopticFrame renderFrame(const pndt::sim::Scene& scene, const pndt::Pose& T)
-{
-    const pndt::CameraIntrinsics K{240, 180, 120.0, 120.0, 119.5, 89.5};
-    pndt::sim::RenderedFrame r;
-    pndt::sim::render(scene, T, K, r);
-    pndt::PanopticFrame f;
-    f.K = K;
-    f.depth = r.depth;
-    f.semantic = r.semantic;
-    f.semantic_score.resize(K.width, K.height, 0.9f);
-    f.instance = r.instance;
-    f.panoptic_score.resize(K.width, K.height, 0.9f);
-    return f;
-}
 }  // namespace
 
 int main()
@@ -94,7 +78,9 @@ voxel_size=0.10
     const pndt::sim::Scene scene = room();
     for (const pndt::Pose& T_world_cam : cameraPoses())
     {
-        const pndt::PanopticFrame frame = renderFrame(scene, T_world_cam);  // your camera + segmentation
+        // Your camera and segmentation network (here a perfect one on the generated room).
+        const pndt::PanopticFrame frame =
+            pndt::sim::renderPanopticFrame(scene, T_world_cam, {240, 180, 120.0, 120.0, 119.5, 89.5});
         const mrpt::poses::CPose3D robot = pndt::mrptSensorPoseOf(T_world_cam);    // your localiser
         mrpt::obs::CObservation3DRangeScan scan;
         pndt::rangeScanFrom(frame, scan);

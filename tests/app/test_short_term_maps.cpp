@@ -31,18 +31,9 @@ Frames roomFrames(int n)
     const CameraIntrinsics K{160, 120, 131.25, 131.25, 79.5, 59.5};
     Frames out;
     out.poses = sim::orbit({0, 0, 0}, 2.3, 1.5, 0.45, n);
-    sim::RenderedFrame r;
     for (const Pose& T : out.poses)
     {
-        sim::render(scene, T, K, r);
-        PanopticFrame f;
-        f.K = K;
-        f.depth = r.depth;
-        f.semantic = r.semantic;
-        f.semantic_score.resize(K.width, K.height, 0.9f);
-        f.instance = r.instance;
-        f.panoptic_score.resize(K.width, K.height, 0.9f);
-        out.frames.push_back(f);
+        out.frames.push_back(sim::renderPanopticFrame(scene, T, K));
     }
     return out;
 }

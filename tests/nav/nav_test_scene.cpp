@@ -89,20 +89,7 @@ std::vector<Pose> cameraPoses()
     return poses;
 }
 
-PanopticFrame renderFrame(const Pose& T)
-{
-    const CameraIntrinsics K = camera();
-    sim::RenderedFrame r;
-    sim::render(scene(), T, K, r);
-    PanopticFrame f;
-    f.K = K;
-    f.depth = r.depth;
-    f.semantic = r.semantic;
-    f.semantic_score.resize(K.width, K.height, 0.9f);
-    f.instance = r.instance;
-    f.panoptic_score.resize(K.width, K.height, 0.9f);
-    return f;
-}
+PanopticFrame renderFrame(const Pose& T) { return sim::renderPanopticFrame(scene(), T, camera()); }
 
 const PanopticNDTMap& builtMap()
 {

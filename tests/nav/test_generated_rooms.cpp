@@ -56,18 +56,9 @@ TEST_P(GeneratedRooms, TheTableWithTheMostChairsIsTheTrueOne)
     w.laps = 2;
     const CameraIntrinsics K{320, 240, 288.9, 288.9, 159.5, 119.5};
     PanopticNDTMap map;
-    sim::RenderedFrame r;
     for (const Pose& T : sim::walkTrajectory(scene, w))
     {
-        sim::render(scene, T, K, r);
-        PanopticFrame f;
-        f.K = K;
-        f.depth = r.depth;
-        f.semantic = r.semantic;
-        f.semantic_score.resize(K.width, K.height, 0.9f);
-        f.instance = r.instance;
-        f.panoptic_score.resize(K.width, K.height, 0.9f);
-        map.integrate(f, T);
+        map.integrate(sim::renderPanopticFrame(scene, T, K), T);
     }
     const auto objs = mapObjects(map.core(), GetParam(), 5);
     const QueryResult q = runQuery(objs, map.core().options().classes, "the table with the most chairs");

@@ -157,4 +157,18 @@ void render(const Scene& scene, const Pose& T_world_cam, const CameraIntrinsics&
     }
 }
 
+PanopticFrame renderPanopticFrame(const Scene& scene, const Pose& T_world_cam, const CameraIntrinsics& K, float score)
+{
+    RenderedFrame r;
+    render(scene, T_world_cam, K, r);
+    PanopticFrame f;
+    f.K = K;
+    f.depth = std::move(r.depth);
+    f.semantic = std::move(r.semantic);
+    f.semantic_score.resize(K.width, K.height, score);
+    f.instance = std::move(r.instance);
+    f.panoptic_score.resize(K.width, K.height, score);
+    return f;
+}
+
 }  // namespace pndt::sim

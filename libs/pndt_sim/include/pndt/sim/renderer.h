@@ -3,6 +3,7 @@
 
 #include <cstdint>
 
+#include "pndt/frame.h"
 #include "pndt/sim/scene.h"
 #include "pndt/types.h"
 
@@ -25,5 +26,10 @@ struct RenderedFrame
 /// Throws InputError if K is not valid.
 void render(const Scene& scene, const Pose& T_world_cam, const CameraIntrinsics& K,
             RenderedFrame& out, double max_range = 10.0);
+
+/// What a perfect camera and segmentation give at T_world_cam: render()'s depth and
+/// labels as a map frame, every semantic and panoptic score `score` (examples, tests).
+PanopticFrame renderPanopticFrame(const Scene& scene, const Pose& T_world_cam, const CameraIntrinsics& K,
+                                  float score = 0.9f);
 
 }  // namespace pndt::sim
