@@ -140,6 +140,21 @@ class LiveCli : public ::testing::Test
         err = slurp(dir / "live.err");
         return std::stoi(slurp(dir / "live.rc"));
     }
+    /// pndt-live (`live_args`) in the background fed by pndt-pose-send (`send_args`), sent SIGTERM
+    /// once its own status line says `after_s` (1-9) seconds (not after a fixed sleep: a sanitizer
+    /// build starts slower; at most 60 s). Fills `out`; returns the seconds from SIGTERM to its exit.
+    double liveUntilSigterm(const std::string& live_args, const std::string& send_args, int after_s)
+    {
+        sh(fmt::format(
+            "cd {0} && (PNDT_VIRTUAL_CAMERA={0}/camera.cfg LD_LIBRARY_PATH={1} {2} --pose-tcp {3} --pose-format tum "
+            "{5} -o {0}/live > live.out 2> live.err & pid=$!; echo $pid > live.pid; wait $pid; echo $? > live.rc) & "
+            "{4} {0}/poses.txt --to 127.0.0.1:{3} {6} > {0}/send.out 2>&1; "
+            "for i in $(seq 600); do grep -qE '^\\[ +([{7}-9]|[1-9][0-9]+)\\.[0-9] s\\]' {0}/live.out && break; "
+            "sleep 0.1; done; date +%s.%N > {0}/term.t; kill -TERM $(cat {0}/live.pid); wait; date +%s.%N > {0}/end.t",
+            dir.string(), PNDT_ONI_DIR, PNDT_LIVE_EXE, port, PNDT_POSE_SEND_EXE, live_args, send_args, after_s));
+        out = slurp(dir / "live.out");
+        return std::stod(slurp(dir / "end.t")) - std::stod(slurp(dir / "term.t"));
+    }
     /// `pndt-map rec.rawlog` (with `map_args`) gives the very maps and maps.rawlog pndt-live wrote
     /// in live/ while recording rec.rawlog (or the files `recording` names, in dir).
     void expectReplayEqualsLive(uint64_t mapped, const std::string& map_args, size_t min_maps,
@@ -543,17 +558,7 @@ TEST_F(LiveCli, AWrongOrCorruptModelFileIsNamed)
 TEST_F(LiveCli, SigtermFinalisesAndWritesTheCurrentMap)
 {
     camera("");
-    const std::string cmd = fmt::format(
-        "cd {0} && (PNDT_VIRTUAL_CAMERA={0}/camera.cfg LD_LIBRARY_PATH={1} {2} --pose-tcp {3} --pose-format tum "
-        "--period 0 -o {0}/live > live.out 2> live.err & pid=$!; echo $pid > live.pid; wait $pid; echo $? > live.rc) & "
-        "{4} {0}/poses.txt --to 127.0.0.1:{3} --rate 0 > {0}/send.out 2>&1; "
-        // SIGTERM once the pipeline has run 3 s by its own status line (not after a fixed
-        // sleep: a sanitizer build starts slower), at most 60 s.
-        "for i in $(seq 600); do grep -qE '^\\[ +([3-9]|[1-9][0-9]+)\\.[0-9] s\\]' {0}/live.out && break; sleep 0.1; "
-        "done; kill -TERM $(cat {0}/live.pid); wait",
-        dir.string(), PNDT_ONI_DIR, PNDT_LIVE_EXE, port, PNDT_POSE_SEND_EXE);
-    sh(cmd);
-    out = slurp(dir / "live.out");
+    liveUntilSigterm("--period 0", "--rate 0", 3);
     EXPECT_EQ(std::stoi(slurp(dir / "live.rc")), 0) << out << slurp(dir / "live.err");
     EXPECT_NE(out.find("stopped; the current map was finalised and written"), std::string::npos) << out;
     const uint64_t mapped = number(out, R"(frames mapped\s+: (\d+))");
@@ -568,17 +573,7 @@ TEST_F(LiveCli, AStopWhilePosesHaveStoppedEndsWithinOnePoseWait)
     // Before, every queued frame waited its full 2 s one after another after the stop (a
     // 90-frame queue: 3 minutes). Now the waits count from capture and end one wait after the stop.
     camera("");
-    const std::string cmd = fmt::format(
-        "cd {0} && (PNDT_VIRTUAL_CAMERA={0}/camera.cfg LD_LIBRARY_PATH={1} {2} --pose-tcp {3} --pose-format tum "
-        "--period 0 --pose-wait 2 -o {0}/live > live.out 2> live.err & pid=$!; echo $pid > live.pid; wait $pid; "
-        "echo $? > live.rc) & "
-        "{4} {0}/poses.txt --to 127.0.0.1:{3} --max-poses 30 > {0}/send.out 2>&1; "
-        "for i in $(seq 600); do grep -qE '^\\[ +([5-9]|[1-9][0-9]+)\\.[0-9] s\\]' {0}/live.out && break; sleep 0.1; "
-        "done; date +%s.%N > {0}/term.t; kill -TERM $(cat {0}/live.pid); wait; date +%s.%N > {0}/end.t",
-        dir.string(), PNDT_ONI_DIR, PNDT_LIVE_EXE, port, PNDT_POSE_SEND_EXE);
-    sh(cmd);
-    out = slurp(dir / "live.out");
-    const double took = std::stod(slurp(dir / "end.t")) - std::stod(slurp(dir / "term.t"));
+    const double took = liveUntilSigterm("--period 0 --pose-wait 2", "--max-poses 30", 5);
     EXPECT_EQ(std::stoi(slurp(dir / "live.rc")), 0) << out << slurp(dir / "live.err");
     EXPECT_LT(took, 8.0) << "from SIGTERM to exit\n" << out;  // one 2 s pose wait, the map's finalising, a loaded machine
     const uint64_t mapped = number(out, R"(frames mapped\s+: (\d+))");
