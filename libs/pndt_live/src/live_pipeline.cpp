@@ -12,6 +12,7 @@
 #include <opencv2/core/utility.hpp>
 
 #include <atomic>
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <deque>
@@ -250,7 +251,7 @@ void LivePipeline::mapItem(Item& it, std::vector<PairedFrame>& done, const std::
     // deadline once a stop is asked for: frames queued during a localiser outage no longer
     // wait one after another (90 frames x 0.5 s = 45 s before Ctrl-C took effect).
     const auto deadline = std::min(it.captured + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                                     std::chrono::duration<double>(std::max(0.0, o_.pose_wait))),
+                                                     std::chrono::duration<double>(std::clamp(o_.pose_wait, 0.0, 1e6))),
                                    drainDeadline());
     const double wait = std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count();
     if (!poses_.waitFor(it.t, std::max(0.0, wait)))
@@ -385,7 +386,7 @@ void LivePipeline::run(const std::atomic<bool>& stop,
             drain_deadline_ns_ = std::chrono::duration_cast<std::chrono::nanoseconds>(
                                      (std::chrono::steady_clock::now() +
                                       std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                          std::chrono::duration<double>(std::max(0.0, o_.pose_wait))))
+                                          std::chrono::duration<double>(std::clamp(o_.pose_wait, 0.0, 1e6))))
                                          .time_since_epoch())
                                      .count();
         }
