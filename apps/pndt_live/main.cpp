@@ -316,6 +316,8 @@ int runLive(int argc, char** argv)
         io::ensureDirectory(out_dir);
         if (const auto folder = std::filesystem::path(record).parent_path(); !record.empty() && !folder.empty())
             io::ensureDirectory(folder.string());  // before any output: nothing is left if it cannot be
+        if (const std::string note = earlierRunNote(settings.short_term); !note.empty())
+            fmt::print(stderr, "pndt-live: note: {}\n", note);
         ShortTermMaps maps(factory, settings.short_term);
         maps_started = true;
         LiveOptions lo;

@@ -200,6 +200,8 @@ int main(int argc, char** argv)
             source.emplace(input, dataset);
         else
             stream.emplace(inputs);
+        if (const std::string note = earlierRunNote(settings.short_term); !note.empty())
+            fmt::print(stderr, "pndt-map: note: {}\n", note);
         ShortTermMaps maps(factory, settings.short_term);
         std::optional<FramePoseRefinement> refinement = refine_cli.make(settings);  // issue #22: against the localiser's errors
         ObservationPairer pairer;

@@ -95,6 +95,24 @@ TEST(ShortTermMaps, OneFilePerPeriodEachEqualToTheMapOfItsFrames)
     fs::remove_all(o.out_dir);
 }
 
+TEST(ShortTermMaps, MapFilesOfAnEarlierRunInTheOutputFolderAreSaid)
+{
+    ShortTermOptions o;
+    o.out_dir = tempDir().string();
+    EXPECT_EQ(earlierRunNote(o), "");  // no folder yet
+    fs::create_directories(o.out_dir);
+    EXPECT_EQ(earlierRunNote(o), "");
+    for (const char* f : {"map_0002.pndt.gz", "map_0000.pndt.gz", "map_0000.ply", "index.json", "notes.txt"})
+        std::ofstream(fs::path(o.out_dir) / f) << "x";
+    const std::string note = earlierRunNote(o);
+    EXPECT_NE(note.find(o.out_dir + " holds 2 map file(s) of an earlier run (map_0000.pndt.gz .. map_0002.pndt.gz)"),
+              std::string::npos)
+        << note;
+    o.prefix = "room";
+    EXPECT_EQ(earlierRunNote(o), "");
+    fs::remove_all(o.out_dir);
+}
+
 TEST(ShortTermMaps, AFailedBackgroundWriteIsReportedNamingTheFile)
 {
     const Frames data = roomFrames(12);

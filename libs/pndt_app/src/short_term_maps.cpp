@@ -5,6 +5,7 @@
 #include <pndt/mrpt/map_files.h>
 #include <tsl/robin_map.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -117,6 +118,26 @@ std::string keptMapsNote(const ShortTermMaps& maps)
     if (maps.firstListedMap() == 0) return {};
     return fmt::format(" lists the newest {}; the {} older deleted", maps.index().size() - maps.firstListedMap(),
                        maps.firstListedMap());
+}
+
+std::string earlierRunNote(const ShortTermOptions& o)
+{
+    std::error_code ec;
+    std::vector<std::string> earlier;
+    const std::string head = o.prefix + "_", tail = ".pndt.gz";
+    for (std::filesystem::directory_iterator it(o.out_dir, ec), end; !ec && it != end; it.increment(ec))
+    {
+        const std::string name = it->path().filename().string();
+        if (name.size() > head.size() + tail.size() && name.compare(0, head.size(), head) == 0 &&
+            name.compare(name.size() - tail.size(), tail.size(), tail) == 0)
+            earlier.push_back(name);
+    }
+    if (earlier.empty()) return {};
+    std::sort(earlier.begin(), earlier.end());
+    return fmt::format("{} holds {} map file(s) of an earlier run ({}{}): this run's replace them by name, the rest "
+                       "stay; index.json will list this run's only (a new folder keeps runs apart)",
+                       o.out_dir, earlier.size(), earlier.front(),
+                       earlier.size() > 1 ? " .. " + earlier.back() : std::string());
 }
 
 std::string ShortTermMaps::plyFile(size_t map) const { return fmt::format("{}_{:04d}.ply", options_.prefix, map); }

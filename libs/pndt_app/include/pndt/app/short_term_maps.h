@@ -132,4 +132,8 @@ class ShortTermMaps
 /// For the apps' summaries: "" or " lists the newest K; the N older deleted" (keep_maps).
 std::string keptMapsNote(const ShortTermMaps& maps);
 
+/// Before a run: "" or a note that `options.out_dir` already holds map files of an earlier
+/// run (a glob over map_*.pndt.gz would mix the runs; index.json lists only the new one's).
+std::string earlierRunNote(const ShortTermOptions& options);
+
 }  // namespace pndt::app
