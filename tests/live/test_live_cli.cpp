@@ -602,6 +602,7 @@ TEST_F(LiveCli, NumberOptionsAnEarlierRecordingAndThePoseKeysOfTheConfig)
         EXPECT_EQ(out.find("frames captured"), std::string::npos) << bad << "\n" << out;
     }
     EXPECT_EQ(run("--pose-file poses.txt --model missing.json --up '0 0 0'"), 1) << out;
+    EXPECT_NE(out.find("--up '0 0 0' is not 'x y z' (finite, not all zero)"), std::string::npos) << out;
     // A recording is never overwritten by the next run under the same name.
     std::ofstream(dir / "earlier.rawlog") << "an earlier recording";
     EXPECT_EQ(run("--pose-file poses.txt --record earlier.rawlog --max-frames 5"), 1) << out;
