@@ -84,6 +84,11 @@ TEST_P(Queries, TheTableWithTheMostChairsIsTableA)
     const QueryResult fewest = ask(objs, "the table with the fewest chairs");
     ASSERT_TRUE(fewest.best());
     EXPECT_EQ(fewest.best()->id, b->id);
+    // "less" is read as "fewest" (it was accepted as a word but answered as "with any chairs").
+    const QueryResult less = ask(objs, "the table with less chairs");
+    EXPECT_EQ(less.kind, QueryKind::FewestAround);
+    ASSERT_TRUE(less.best());
+    EXPECT_EQ(less.best()->id, b->id);
 }
 
 TEST_P(Queries, ATableWithNChairs)

@@ -80,6 +80,15 @@ std::optional<uint64_t> wholeNumber(double v, double lo, double hi)
     return uint64_t(v);
 }
 
+// The relation words, once: read by runQuery and accepted by isQueryWord.
+using Words = std::initializer_list<const char*>;
+constexpr Words kMostWords{"most", "more", "many"};
+constexpr Words kFewestWords{"fewest", "least", "fewer", "less"};
+constexpr Words kWithWords{"with", "has", "have", "having"};
+constexpr Words kOnWords{"on", "onto", "atop", "top"};
+constexpr Words kNextWords{"next", "beside", "by", "near"};
+constexpr Words kNearestWords{"nearest", "closest", "near"};
+
 /// The words a query may hold besides class names and numbers. A word outside
 /// this list is most likely a class the map does not have ("the unicorn with
 /// the most chairs"): answering without it would send the robot to another object.
@@ -93,13 +102,13 @@ bool isQueryWord(const std::string& w)
         // what a robot is told to do
         "go", "drive", "move", "navigate", "head", "get", "take", "bring", "find", "show", "look", "locate",
         "to", "towards", "toward", "into", "point",
-        // relations (read below)
-        "with", "has", "have", "having", "most", "more", "many", "fewest", "least", "fewer", "less", "nearest",
-        "closest", "near", "close", "on", "onto", "atop", "top", "next", "beside", "by", "x", "y", "m", "metres",
-        "meters",
-        // ids
-        "id", "object", "instance", "number"};
-    return words.count(w) != 0;
+        // a point's axes and unit; ids
+        "close", "x", "y", "m", "metres", "meters", "id", "object", "instance", "number"};
+    if (words.count(w)) return true;
+    for (const Words list : {kMostWords, kFewestWords, kWithWords, kOnWords, kNextWords, kNearestWords})
+        for (const char* r : list)
+            if (w == r) return true;
+    return false;
 }
 
 struct ClassMention
@@ -133,7 +142,7 @@ std::vector<ClassMention> classMentions(const std::vector<std::string>& t, const
     return out;
 }
 
-bool hasWord(const std::vector<std::string>& t, size_t from, size_t to, std::initializer_list<const char*> words)
+bool hasWord(const std::vector<std::string>& t, size_t from, size_t to, Words words)
 {
     for (size_t i = from; i < std::min(to, t.size()); ++i)
         for (const char* w : words)
@@ -228,8 +237,9 @@ QueryResult runQuery(const std::vector<MapObject>& objects, const ClassSet& clas
             }
         }
     const bool relation_word =
-        hasWord(t, 0, t.size(), {"with", "has", "have", "having", "most", "more", "many", "fewest", "least", "fewer",
-                                 "less", "on", "onto", "atop", "top", "next", "beside", "by"});
+        hasWord(t, 0, t.size(), kWithWords) || hasWord(t, 0, t.size(), kMostWords) ||
+        hasWord(t, 0, t.size(), kFewestWords) || hasWord(t, 0, t.size(), kOnWords) ||
+        (hasWord(t, 0, t.size(), kNextWords) && !hasWord(t, 0, t.size(), kNearestWords));
     if (!has_b && relation_word)
         throw InputError(fmt::format("'{}': a relation without its second class (e.g. '{} with the most chairs', "
                                      "'{} next to a table')",
@@ -238,14 +248,14 @@ QueryResult runQuery(const std::vector<MapObject>& objects, const ClassSet& clas
     for (const MapObject& o : objects)
         if (o.class_id == a.id) of_a.push_back(&o);
 
-    const bool nearest_word = hasWord(t, 0, t.size(), {"nearest", "closest", "near"});
+    const bool nearest_word = hasWord(t, 0, t.size(), kNearestWords);
     if (has_b)
     {
         r.related_class = b.id;
         const std::string B = className(classes, b.id);
         const size_t from = a.pos + a.len, to = b.pos;
-        const bool most = hasWord(t, 0, to, {"most", "more", "many"}), fewest = hasWord(t, 0, to, {"fewest", "least", "fewer"});
-        if (most || fewest || count_between || hasWord(t, from, to, {"with", "has", "having"}))
+        const bool most = hasWord(t, 0, to, kMostWords), fewest = hasWord(t, 0, to, kFewestWords);
+        if (most || fewest || count_between || hasWord(t, from, to, kWithWords))
         {
             const auto around = objectsAround(objects, a.id, b.id, rel);
             for (const MapObject* o : of_a) r.matches.push_back({o, around.at(o->id), 0});
@@ -284,9 +294,9 @@ QueryResult runQuery(const std::vector<MapObject>& objects, const ClassSet& clas
             }
             return r;
         }
-        if (hasWord(t, from, to, {"on", "onto", "atop", "top"}) || hasWord(t, from, to, {"next", "beside", "by", "near"}))
+        if (hasWord(t, from, to, kOnWords) || hasWord(t, from, to, kNextWords))
         {
-            const bool on_top = hasWord(t, from, to, {"on", "onto", "atop", "top"});
+            const bool on_top = hasWord(t, from, to, kOnWords);
             r.kind = on_top ? QueryKind::OnTopOf : QueryKind::NextTo;
             for (const MapObject* o : of_a)
             {
