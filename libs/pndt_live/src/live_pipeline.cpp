@@ -4,6 +4,7 @@
 #include <pndt/app/gz_rawlog_file.h>
 #include <pndt/app/map_rawlog.h>
 #include <pndt/live/live_pipeline.h>
+#include <pndt/live/stamp_order.h>
 #include <pndt/mrpt/observation_frame.h>
 #include <pndt/mrpt/rawlog_frames.h>
 
@@ -79,11 +80,11 @@ LivePipeline::~LivePipeline() = default;
 
 void LivePipeline::captureLoop(const std::atomic<bool>& stop)
 {
-    // Frames must come in time order: poses are looked up, maps handed over and the recording
-    // cut by frame time. A frame not after the one before is dropped; if none passes it for
-    // grab_timeout (a device whose clock was reset starts again near 0), the camera is lost.
-    double last_t = -std::numeric_limits<double>::infinity(), first_back_t = 0;  // stamps may be < 0 (--stamp-offset)
-    std::optional<std::chrono::steady_clock::time_point> stamps_back_since;
+    // Frames must come in time order (StampOrder says why and how it is checked).
+    StampOrder order(o_.device_stamps, o_.grab_timeout);
+    const auto seconds = [](std::chrono::steady_clock::time_point p) {
+        return std::chrono::duration<double>(p.time_since_epoch()).count();
+    };
     while (!stop && (o_.max_frames == 0 || stats_.captured < o_.max_frames))
     {
         auto f = grabber_.grab(o_.grab_timeout);
@@ -105,36 +106,20 @@ void LivePipeline::captureLoop(const std::atomic<bool>& stop)
                                  : mrpt::Clock::toDouble(mrpt::Clock::now());
         f->scan->timestamp = mrpt::Clock::fromDouble(it->t);
         it->t = mrpt::Clock::toDouble(f->scan->timestamp);  // what a replay reads back (100 ns ticks)
-        if (it->t <= last_t)
+        const StampOrder::Verdict verdict = order.next(it->t, seconds(it->captured));
+        if (verdict == StampOrder::Verdict::clock_reset)
         {
             ++stats_.stamp_back_dropped;
-            const auto now = std::chrono::steady_clock::now();
-            if (!stamps_back_since)
-            {
-                stamps_back_since = now;
-                first_back_t = it->t;
-                fmt::print(stderr,
-                           "\npndt-live: the camera's frame stamp went back (t={:.6f} s after t={:.6f} s): frames are "
-                           "dropped and counted until its stamps pass t={:.6f} s\n",
-                           it->t, last_t, last_t);
-            }
-            else if (std::chrono::duration<double>(now - *stamps_back_since).count() >= o_.grab_timeout)
-            {
-                stats_.camera_error = fmt::format(
-                    "the camera's frame stamps went back {:.3f} s (t={:.6f} s after t={:.6f} s) and did not pass "
-                    "t={:.6f} s again within {:.1f} s (its clock reset?)",
-                    last_t - first_back_t, first_back_t, last_t, last_t, o_.grab_timeout);
-                stats_.camera_lost = true;
-                break;
-            }
+            stats_.camera_error = order.message();
+            stats_.camera_lost = true;
+            break;
+        }
+        if (!order.message().empty()) fmt::print(stderr, "\npndt-live: {}\n", order.message());
+        if (verdict == StampOrder::Verdict::drop)
+        {
+            ++stats_.stamp_back_dropped;
             continue;
         }
-        if (stamps_back_since)
-        {
-            fmt::print(stderr, "\npndt-live: the camera's frame stamps are in order again at t={:.6f} s\n", it->t);
-            stamps_back_since.reset();
-        }
-        last_t = it->t;
         f->scan->sensorPose = o_.camera_pose;
         it->frame = std::move(*f);
         {

@@ -8,6 +8,7 @@
 #include <Driver/OniDriverAPI.h>
 #include <pndt/oni_virtual/virtual_scene.h>
 
+#include <algorithm>
 #include <atomic>
 #include <functional>
 #include <chrono>
@@ -187,7 +188,8 @@ class VirtualStream : public oni::driver::StreamBase
                                                         : static_cast<const void*>(s_->frames.rgb[i].data());
             std::memcpy(f->data, src, size_t(W) * H * bpp);
             f->frameIndex = int(k + 1);
-            const int64_t clock_k = c.clock_reset_after > 0 && k >= c.clock_reset_after ? k - c.clock_reset_after : k;
+            int64_t clock_k = c.clock_reset_after > 0 && k >= c.clock_reset_after ? k - c.clock_reset_after : k;
+            if (c.stamp_back_frame > 0 && k == c.stamp_back_frame) clock_k = std::max<int64_t>(0, clock_k - 5);
             f->timestamp = uint64_t(clock_k) * 1000000ull / uint64_t(c.fps);
             f->videoMode = mode();
             f->width = W;

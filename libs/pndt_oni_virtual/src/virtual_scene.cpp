@@ -57,6 +57,7 @@ VirtualCameraConfig VirtualCameraConfig::fromFile(const std::string& path)
         else if (key == "unplug_after") ok = bool(v >> c.unplug_after);
         else if (key == "freeze_after") ok = bool(v >> c.freeze_after);
         else if (key == "clock_reset_after") ok = bool(v >> c.clock_reset_after);
+        else if (key == "stamp_back_frame") ok = bool(v >> c.stamp_back_frame);
         else if (key == "serial") c.serial = value;
         else if (key == "uri") c.uri = value;
         else if (key == "pose_seconds") ok = bool(v >> c.pose_seconds);

@@ -28,6 +28,9 @@ struct VirtualCameraConfig
     /// Frame from which the device clock starts again at 0, as after a firmware reset: frame
     /// k >= clock_reset_after is stamped (k - clock_reset_after) / fps (0 = never).
     int clock_reset_after = 0;
+    /// Frame that carries the stamp of the frame five before it, as a frame delivered out of
+    /// order; the frames after it are stamped as usual (0 = none).
+    int stamp_back_frame = 0;
     std::string serial = "PNDT0001";
     std::string uri = "pndt://virtual/0";
     double pose_seconds = 120; ///< length of the TUM pose file writeTrajectoryTum writes
