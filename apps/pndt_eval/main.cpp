@@ -2,6 +2,7 @@
 // ground truth, with the metrics and formats of design §9 — doc/pndt-eval.md.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <pndt/app/cli_numbers.h>
 #include <pndt/eval/label_text.h>
 #include <pndt/io/atomic_file.h>
 #include <pndt/mrpt/map_files.h>
@@ -73,7 +74,7 @@ int main(int argc, char** argv)
         ->check(CLI::IsMember({1000u, 65536u}));
     app.add_option("--nicr", nicr_dir, "2D GT: a nicr-layout split folder (<dataset>/<split>)");
     auto* o_seq = app.add_option("--sequence", nicr_seq, "the sequence in --nicr (e.g. ai_001_010/cam_00)");
-    app.add_option("--every", every, "2D: evaluate every k-th frame")->check(CLI::PositiveNumber);
+    app.add_option("--every", every, "2D: evaluate every k-th frame")->check(app::kPositive);
     app.add_option("--classes", classes, "benchmark class table")->check(CLI::IsMember({"nyuv2-40", "scannet-20"}));
     app.add_option("--min-labelled", min_labelled,
                    "refuse a 3D evaluation where the map labels fewer GT points than this share (wrong frame or scene)")

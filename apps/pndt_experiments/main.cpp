@@ -6,6 +6,7 @@
 //   build/bin/pndt-experiments --quick    # minimal run (one scene, 10 cm) in a few minutes
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <pndt/app/cli_numbers.h>
 #include <pndt/sim/indoor_scene.h>
 #include <sys/utsname.h>
 
@@ -188,7 +189,7 @@ int main(int argc, char** argv)
     app.add_option("--voxels", voxels, "voxel sizes in metres for the main rows")->capture_default_str();
     app.add_option("--ablation-voxel", plan.ablation_voxel, "voxel size of the ablations and per-class tables")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(app::kPositive);
     app.add_option("--eval-every", plan.eval_every, "2D: evaluate every k-th frame (0, k, 2k, ...)")
         ->capture_default_str()
         ->check(CLI::Range(1, 100000));

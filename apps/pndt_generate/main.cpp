@@ -3,6 +3,7 @@
 // segmentation input is (per-frame mIoU / PQ), so every map result can be read against it.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <pndt/app/cli_numbers.h>
 #include <pndt/data/dataset.h>
 #include <pndt/sim/indoor_scene.h>
 
@@ -35,20 +36,20 @@ int main(int argc, char** argv)
         ->check(CLI::IsMember({"640x480", "1024x768"}));
     app.add_option("--seg-noise", g.seg_noise, "segmentation noise strength (0 = perfect labels, 1 = network-like)")
         ->capture_default_str()
-        ->check(CLI::NonNegativeNumber);
+        ->check(app::kNonNegative);
     app.add_option("--depth-noise", g.depth_noise, "depth noise strength (0 = exact, 1 = Kinect-like)")
         ->capture_default_str()
-        ->check(CLI::NonNegativeNumber);
+        ->check(app::kNonNegative);
     app.add_option("--pose-noise", g.pose_noise, "pose noise strength of the written poses (0 = true poses)")
         ->capture_default_str()
-        ->check(CLI::NonNegativeNumber);
+        ->check(app::kNonNegative);
     app.add_option("--seed", g.seed, "seed of the recording (camera path and all noise)")->capture_default_str();
     app.add_option("--walk", walk, "handheld or robot camera path")
         ->capture_default_str()
         ->check(CLI::IsMember({"handheld", "robot"}));
     app.add_option("--laps", g.laps, "loops around the room over all frames")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(app::kPositive);
     app.add_option("-o,--out", out.out_dir, "output folder")->capture_default_str();
     app.add_option("--formats", formats, "comma-separated subset of rawlog, nicr, gt (or all)")->capture_default_str();
     app.add_option("--split", out.split, "nicr split folder name")->capture_default_str();

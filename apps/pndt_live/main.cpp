@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <mrpt/maps/CMultiMetricMap.h>
+#include <pndt/app/cli_numbers.h>
 #include <pndt/app/layered_config.h>
 #include <pndt/app/map_config.h>
 #include <pndt/app/map_outputs.h>
@@ -89,17 +90,17 @@ int runLive(int argc, char** argv)
     app.add_option("--pose-wait", pose_wait, "seconds a frame waits (from its capture) for a pose at or after its "
                                              "stamp, then it is skipped and counted")
         ->capture_default_str()
-        ->check(CLI::NonNegativeNumber);
+        ->check(app::kNonNegative);
     app.add_option("--stamps", stamps, "frame clock: device (the camera's frame stamps; openni2 default) or host "
                                        "(time of grab; the only one --capture mrpt has)")
         ->check(CLI::IsMember({"device", "host"}));
     app.add_option("--grab-timeout", grab_timeout, "seconds without a frame after which the camera counts as lost")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(app::kPositive);
     app.add_option("--label-wait", label_wait, "seconds the mapper waits for a frame's labels before mapping it "
                                                "geometry-only")
         ->capture_default_str()
-        ->check(CLI::NonNegativeNumber);
+        ->check(app::kNonNegative);
     app.add_option("--model", model, "segmentation model description (JSON); without it the map is geometry-only");
     app.add_option("--up", up, "gravity up in the poses' world frame, 'x y z' (segmentation)");
     app.add_option("--record", record, "write what was seen (depth, colour, labels, poses) as a rawlog; "
@@ -109,13 +110,13 @@ int runLive(int argc, char** argv)
     app.add_option("--record-minutes", record_minutes,
                    "cut the recording into files of this many minutes of sensor time (REC.rawlog -> REC-0000.rawlog, "
                    "REC-0001.rawlog, ...; `pndt-map REC-*.rawlog` replays them in order)")
-        ->check(CLI::PositiveNumber);
+        ->check(app::kPositive);
     app.add_option("--record-keep", record_keep,
                    "keep only the newest N files of the recording, deleting older ones (a black box of the last N x "
                    "--record-minutes minutes)")
-        ->check(CLI::PositiveNumber);
+        ->check(app::kPositive);
     app.add_option("--max-frames", max_frames, "stop after this many captured frames (0 = until Ctrl-C)");
-    app.add_option("--seconds", seconds, "stop after this many seconds (0 = until Ctrl-C)")->check(CLI::NonNegativeNumber);
+    app.add_option("--seconds", seconds, "stop after this many seconds (0 = until Ctrl-C)")->check(app::kNonNegative);
     app.add_option("-o,--out", out_dir, "output folder (as pndt-map)")->capture_default_str();
     app.add_option("-p,--preset", presets, "preset from config/presets (as pndt-map)")
         ->delimiter(',')
@@ -124,8 +125,8 @@ int runLive(int argc, char** argv)
     app.add_option("-s,--set", sets, "override: section.key=value (repeatable)");
     // Given values go to the config (as pndt-map): out of range is an error, never "not given".
     CLI::Option* period_opt = app.add_option("--period", period, "short-term map period (config period_unit; 0 = one map)")
-                                  ->check(CLI::NonNegativeNumber);
-    CLI::Option* voxel_opt = app.add_option("--voxel-size", voxel_size, "voxel size in metres")->check(CLI::PositiveNumber);
+                                  ->check(app::kNonNegative);
+    CLI::Option* voxel_opt = app.add_option("--voxel-size", voxel_size, "voxel size in metres")->check(app::kPositive);
     bool no_maps_rawlog = false, rawlog_inputs = false;
     app.add_flag("--no-maps-rawlog", no_maps_rawlog, "do not write maps.rawlog (config maps_rawlog; as pndt-map)");
     app.add_flag("--rawlog-inputs", rawlog_inputs,

@@ -7,6 +7,7 @@
 #include <mrpt/obs/CObservationImage.h>
 #include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/system/datetime.h>
+#include <pndt/app/cli_numbers.h>
 #include <pndt/app/layered_config.h>
 #include <pndt/app/map_config.h>
 #include <pndt/app/map_rawlog.h>
@@ -112,10 +113,10 @@ int main(int argc, char** argv)
     // Given values go to the config, whose checks name the key and its range; a value that
     // is not finite or out of range is an error, never "not given".
     CLI::Option* period_opt = app.add_option("--period", period, "short-term map period (config period_unit; 0 = one map)")
-                                  ->check(CLI::NonNegativeNumber);
-    CLI::Option* voxel_opt = app.add_option("--voxel-size", voxel_size, "voxel size in metres")->check(CLI::PositiveNumber);
+                                  ->check(app::kNonNegative);
+    CLI::Option* voxel_opt = app.add_option("--voxel-size", voxel_size, "voxel size in metres")->check(app::kPositive);
     app.add_option("--max-frames", max_frames, "stop after this many mapped frames (0 = all)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(app::kNonNegative);
     ShortTermCli short_term_cli;
     short_term_cli.addTo(app);
     app.add_flag("--no-progress", no_progress, "no progress bar");

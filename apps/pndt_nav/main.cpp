@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/random/RandomGenerators.h>
+#include <pndt/app/cli_numbers.h>
 #include <pndt/app/map_config.h>
 #include <pndt/mrpt/map_files.h>
 #include <pndt/nav/grid_image.h>
@@ -206,8 +207,8 @@ int main(int argc, char** argv)
     app.add_option("--start", s.start, "robot start x,y[,yaw] (m, rad): reachability, path and simulation start")
         ->delimiter(',')
         ->expected(2, 3);
-    app.add_option("--robot-radius", s.robot_radius, "m")->check(CLI::PositiveNumber);
-    app.add_option("--resolution", s.resolution, "grid cell size in m (0 = the map's voxel size)")->check(CLI::NonNegativeNumber);
+    app.add_option("--robot-radius", s.robot_radius, "m")->check(app::kPositive);
+    app.add_option("--resolution", s.resolution, "grid cell size in m (0 = the map's voxel size)")->check(app::kNonNegative);
     app.add_option("--band", s.band, "obstacle heights above the floor: min,max (m)")->delimiter(',')->expected(2);
     app.add_option("--exclude", s.exclude, "classes that are never obstacles")->delimiter(',');
     app.add_option("--planner", s.planner, "simple: PlannerSimple2D on the grid; tps: PlannerRRT_SE2_TPS (TP-Space RRT) on the obstacle points")

@@ -3,6 +3,7 @@
 // connection drops. For tests, demos and bridging a localiser that writes a file.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <pndt/app/cli_numbers.h>
 #include <pndt/live/pose_stream.h>
 
 #include <arpa/inet.h>
@@ -50,8 +51,8 @@ int main(int argc, char** argv)
     app.add_option("--format", format, "line format, checked before sending: tum, rtabmap10, rtabmap11")
         ->capture_default_str();
     app.add_option("--rate", rate, "poses per second (0 = as fast as possible); default: paced by the stamps")
-        ->check(CLI::NonNegativeNumber);
-    app.add_option("--speed", speed, "with stamp pacing: replay speed factor")->capture_default_str()->check(CLI::PositiveNumber);
+        ->check(app::kNonNegative);
+    app.add_option("--speed", speed, "with stamp pacing: replay speed factor")->capture_default_str()->check(app::kPositive);
     app.add_option("--stamp-offset", stamp_offset,
                    "seconds added to every stamp sent (e.g. device time -> host clock for pndt-live --capture mrpt)");
     app.add_option("--max-poses", max_poses, "stop after this many poses (a localiser that stops)");
