@@ -84,8 +84,7 @@ BenchFrames makeRoomFrames(int n, int width, int height, double max_range, doubl
 }
 BenchFrames makeRecordingFrames(const std::string& folder, int n, double max_range, double noise)
 {
-    const bool tum = std::filesystem::exists(std::filesystem::path(folder) / "rgb.txt");
-    const io::RgbdSequence seq = tum ? io::openTumSequence(folder) : io::openRedwoodSequence(folder);
+    const io::RgbdSequence seq = io::openRecordingFolder(folder);
     std::vector<size_t> posed;
     for (size_t i = 0; i < seq.size(); ++i)
         if (seq.frames[i].T_world_cam) posed.push_back(i);

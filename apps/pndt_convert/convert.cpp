@@ -62,9 +62,7 @@ std::string detectFormat(const ConvertOptions& o)
 {
     const fs::path dir(o.input);
     if (!o.sequence.empty() || isDir(dir / "depth_intrinsics")) return "nicr";
-    if (isFile(dir / "rgb.txt") && isFile(dir / "depth.txt")) return "tum";
-    for (const char* a : {"associations.txt", "association.txt", "associate.txt"})
-        if (isFile(dir / a)) return "tum";
+    if (io::isTumFolder(o.input)) return "tum";
     if (isDir(dir / "depth")) return "redwood";
     throw InputError(fmt::format(
         "{}: cannot tell the dataset format: expected depth/ + camera_primesense.json (Redwood), rgb.txt + "

@@ -148,12 +148,13 @@ void describeRecording(const std::string& model, const std::string& folder, int 
     {
         std::istringstream in(up);
         Eigen::Vector3d u;
-        if (!(in >> u.x() >> u.y() >> u.z())) throw InputError("--up must be \"x y z\"");
+        std::string extra;
+        if (!(in >> u.x() >> u.y() >> u.z()) || (in >> extra) || !u.allFinite() || u.norm() == 0)
+            throw InputError(fmt::format("--up must be \"x y z\", three finite numbers not all 0 (got \"{}\")", up));
         so.up_world = u.normalized();
     }
     auto seg = seg::loadSegmenter(model, classes, so);
-    const io::RgbdSequence seq = fs::exists(fs::path(folder) / "rgb.txt") ? io::openTumSequence(folder)
-                                                                         : io::openRedwoodSequence(folder);
+    const io::RgbdSequence seq = io::openRecordingFolder(folder);
     PanopticFrame out;
     for (size_t i = 0, n = 0; i < seq.size() && int(n) < frames; i += size_t(every), ++n)
     {
@@ -202,8 +203,8 @@ int main(int argc, char** argv)
     app.add_option("--tolerance", tolerance, "max abs difference, relative to max(1, largest value)")
         ->capture_default_str();
     app.add_option("--recording", recording, "Redwood / TUM folder to run the front-end on");
-    app.add_option("--frames", frames, "frames of --recording")->capture_default_str();
-    app.add_option("--every", every, "use every n-th frame")->capture_default_str();
+    app.add_option("--frames", frames, "frames of --recording")->capture_default_str()->check(CLI::Range(1, 1000000));
+    app.add_option("--every", every, "use every n-th frame")->capture_default_str()->check(CLI::Range(1, 1000000));
     app.add_option("--up", up, "gravity up \"x y z\" in the recording's world frame");
     app.add_option("--pictures", pictures, "write each frame's boxes and label images as PNGs into this folder");
     app.add_option("--picture-scale", picture_scale, "scale of the pictures")->check(CLI::Range(0.05, 4.0));
@@ -219,7 +220,18 @@ int main(int argc, char** argv)
         }
         int rc = 0;
         if (!dir.empty()) rc = checkReference(d, dir, tolerance);
-        if (!recording.empty()) describeRecording(model, recording, frames, std::max(1, every), up, pictures, picture_scale);
+        if (!recording.empty())
+            describeRecording(model, recording, frames, every, up, pictures, picture_scale);
+        else
+        {
+            // The description alone says nothing of the network: load it as the front-end
+            // does (its inputs, outputs and classes checked, one run on a blank input).
+            const ClassSet classes = ClassSet::nyuv2_40();
+            const auto seg = seg::loadSegmenter(model, classes);
+            fmt::print("{}: {}; the network loads, has the inputs and outputs the description names and runs on a "
+                       "blank input\n",
+                       model, seg->describe());
+        }
         return rc;
     }
     catch (const std::exception& e)

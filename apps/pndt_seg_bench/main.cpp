@@ -318,8 +318,7 @@ void benchModel(const std::string& model, const std::string& recording, int fram
     io::RgbdSequence seq;
     if (!recording.empty())
     {
-        seq = std::filesystem::exists(std::filesystem::path(recording) / "rgb.txt") ? io::openTumSequence(recording)
-                                                                                   : io::openRedwoodSequence(recording);
+        seq = io::openRecordingFolder(recording);
         if (seq.size() == 0) throw InputError(recording + ": no frames");
     }
     Stats pre, net, post, total;
@@ -365,7 +364,7 @@ int main(int argc, char** argv)
     app.add_option("--width", W, "tensor width")->capture_default_str();
     app.add_option("--height", H, "tensor height")->capture_default_str();
     app.add_option("--classes", C, "semantic channels")->capture_default_str();
-    app.add_option("--frames", frames, "frames timed per variant")->capture_default_str();
+    app.add_option("--frames", frames, "frames timed per variant")->capture_default_str()->check(CLI::Range(1, 1000000));
     app.add_option("--centres", centres, "noise input: centre peaks in the heatmap")->capture_default_str();
     app.add_option("--margin", margin, "noise input: logit margin of each block's winning class")->capture_default_str();
     app.add_option("--noise", noise, "noise input: standard deviation of the logit noise")->capture_default_str();

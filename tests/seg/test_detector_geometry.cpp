@@ -165,8 +165,15 @@ TEST(DetectorClasses, CocoNamesMapToNyu40AndOverridesApply)
     EXPECT_THROW(mapDetectorClasses({"chair"}, {{"chair", "floor"}}, nyu()), InputError) << "stuff is no thing";
     EXPECT_THROW(mapDetectorClasses({"chair"}, {{"chair", "chairz"}}, nyu()), InputError);
     EXPECT_EQ(mapDetectorClasses({"tv"}, {{"tv", "void"}}, nyu()), std::vector<uint16_t>{0}) << "\"void\" ignores";
-    EXPECT_EQ(mapDetectorClasses({"spaceship", "backpack", "person", "refrigerator"}, {}, nyu()),
+    EXPECT_EQ(mapDetectorClasses({"giraffe", "backpack", "person", "refrigerator"}, {}, nyu()),
               (std::vector<uint16_t>{40, 37, 31, 24}));
+    // A name that is not COCO's (a typo, another dataset's name) needs a class_map entry.
+    EXPECT_THROW(mapDetectorClasses({"sofaa"}, {}, nyu()), InputError) << "a typo";
+    EXPECT_THROW(mapDetectorClasses({"chair", "sofa"}, {}, nyu()), InputError) << "NYU's name, not COCO's";
+    EXPECT_EQ(mapDetectorClasses({"spaceship"}, {{"spaceship", "otherprop"}}, nyu()), std::vector<uint16_t>{40});
+    EXPECT_EQ(mapDetectorClasses({"spaceship"}, {{"spaceship", ""}}, nyu()), std::vector<uint16_t>{0});
+    // A class_map key the detector does not have is a typo too.
+    EXPECT_THROW(mapDetectorClasses({"couch"}, {{"coutch", "sofa"}}, nyu()), InputError);
     // A class set without "otherprop": unknown names are ignored, known ones still map.
     const ClassSet small({{"void", false}, {"floor", false}, {"chair", true}});
     EXPECT_EQ(mapDetectorClasses({"giraffe", "chair"}, {}, small), (std::vector<uint16_t>{0, 2}));

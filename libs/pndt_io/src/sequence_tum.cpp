@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <tuple>
 
 namespace pndt::io
@@ -230,4 +231,15 @@ RgbdSequence openTumSequence(const std::string& dir, const TumOptions& options)
     return seq;
 }
 
+bool isTumFolder(const std::string& dir)
+{
+    const auto file = [&](const char* name) { return std::filesystem::is_regular_file(std::filesystem::path(dir) / name); };
+    return (file("rgb.txt") && file("depth.txt")) || file("associations.txt") || file("association.txt") ||
+           file("associate.txt");
+}
+
+RgbdSequence openRecordingFolder(const std::string& dir)
+{
+    return isTumFolder(dir) ? openTumSequence(dir) : openRedwoodSequence(dir);
+}
 }  // namespace pndt::io

@@ -58,6 +58,8 @@ void OnnxNetwork::checkOutputs(const std::vector<int>& channels)
     for (size_t i = 0; i < names.size(); ++i)
         expected += fmt::format("{}'{}' [1, {}, h, w]", i ? ", " : "", names[i],
                                 channels[i] > 0 ? std::to_string(channels[i]) : std::string("C"));
+    std::string inputs;
+    for (const InputSpec& in : d_.inputs) inputs += fmt::format("{}'{}'", inputs.empty() ? "" : ", ", in.name);
     try
     {
         for (auto& b : blobs_) b.setTo(0);
@@ -66,9 +68,9 @@ void OnnxNetwork::checkOutputs(const std::vector<int>& channels)
     catch (const cv::Exception& e)
     {
         throw InputError(fmt::format("{}: running the network on a blank {}x{} input failed (the description {} "
-                                     "expects inputs {} and outputs {}): {}",
-                                     d_.onnx_path, d_.input_width, d_.input_height, d_.path,
-                                     d_.inputs.front().name, expected, e.err));
+                                     "feeds inputs {} and expects outputs {}; a network input it does not feed "
+                                     "shows here as an OpenCV assertion): {}",
+                                     d_.onnx_path, d_.input_width, d_.input_height, d_.path, inputs, expected, e.err));
     }
     for (size_t i = 0; i < names.size(); ++i)
     {

@@ -117,6 +117,14 @@ struct TumOptions
 };
 RgbdSequence openTumSequence(const std::string& dir, const TumOptions& options = {});
 
+// --- A recording folder by its layout ----------------------------------------------------------
+/// True for a TUM RGB-D layout: rgb.txt + depth.txt, or an association file (associations.txt,
+/// association.txt, associate.txt). Open3D's rgbd.match alone is Redwood's layout.
+bool isTumFolder(const std::string& dir);
+/// A Redwood or TUM folder with each layout's default options (isTumFolder tells which): what
+/// the tools that take "a Redwood / TUM folder" open.
+RgbdSequence openRecordingFolder(const std::string& dir);
+
 // --- nicr-scene-analysis-datasets ----------------------------------------------------------------
 /// Layout written by the nicr-scene-analysis-datasets preparation scripts (Hypersim, ScanNet),
 /// relative to a split folder `<dataset>/<split>` (split = train | valid | test):
