@@ -465,6 +465,7 @@ ConvertReport convertSequence(const ConvertOptions& o, const ProgressFn& progres
                 fmt::format("frame {} (t={:.6f}): {}{}", rec.id, rec.t, reason, detail.empty() ? "" : ": " + detail));
     };
     size_t color_unregistered = 0;
+    size_t depth_pixels = 0;  // positive depths of the frames written
 
     for (size_t n = 0; n < selected.size(); ++n)
     {
@@ -538,6 +539,7 @@ ConvertReport convertSequence(const ConvertOptions& o, const ProgressFn& progres
         if (front_end) front_end->label(pf, registered, *T);
         const Image<std::array<uint8_t, 3>>* rgb = o.color ? registered : nullptr;
         writer.write(pf, rec.t + o.stamp_offset, T, rgb, o.pose_label);
+        for (const float d : pf.depth.data) depth_pixels += d > 0 && std::isfinite(d);
         ++report.frames_written;
         if (pf.hasLabels()) ++report.frames_with_labels;
         if (labels_missing) ++report.frames_labels_missing;
@@ -557,6 +559,19 @@ ConvertReport convertSequence(const ConvertOptions& o, const ProgressFn& progres
                                      "to {}{}",
                                      o.input, selected.size(), reasons, o.output,
                                      external ? "" : " (poses from a file: --poses FILE --pose-format FORMAT)"));
+    }
+    // A rawlog stores millimetres in 16 bits: depths that do not fit are lost. Most of them lost
+    // is a wrong depth scale (millimetres read as metres), not a scene.
+    if (const size_t lost = writer.unstoredDepthPixels(); lost > 0)
+    {
+        const std::string what = fmt::format(
+            "{} of {} depth pixels ({:.1f} %) are outside the 0.5 mm - 65.535 m a rawlog stores and were written as no "
+            "depth (a wrong --depth-scale? the depth images were read with {})",
+            lost, depth_pixels, 100.0 * double(lost) / double(std::max<size_t>(depth_pixels, 1)),
+            o.depth_units_per_metre ? fmt::format("{} units per metre", *o.depth_units_per_metre)
+                                    : std::string("the format's default units"));
+        if (2 * lost > depth_pixels) throw InputError(fmt::format("{}: {}; nothing written to {}", o.input, what, o.output));
+        report.notes.push_back(what);
     }
     writer.commit();
 

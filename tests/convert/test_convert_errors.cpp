@@ -245,6 +245,26 @@ TEST_F(ConvertErrors, BadOptionValues)
     EXPECT_NE(runConvert({in, "-o", out, "--no-such-flag"}).exit_code, 0);
 }
 
+// A rawlog holds millimetres in 16 bits: a depth scale that puts the depths out of that range
+// wrote a rawlog without depth, exit 0 (pndt-map then mapped nothing).
+TEST_F(ConvertErrors, DepthsARawlogCannotHoldAreAnErrorWhenMostAndANoteWhenFew)
+{
+    const std::string in = makeRedwoodFolder(folder("redwood"), 2);
+    const std::string out = path("o/out.rawlog");
+    // 1000-1200 units read as metres: 1000-1200 m, all beyond 65.535 m.
+    expectFailure(runConvert({in, "-o", out, "--depth-scale", "1"}), out,
+                  {"depth pixels (100.0 %) are outside the 0.5 mm - 65.535 m a rawlog stores", "--depth-scale",
+                   "1 units per metre"});
+    // One pixel at 65.535 m (the largest uint16 in millimetres): written as no depth, said.
+    cv::Mat d = fixtureDepth(1, kW, kH);
+    d.at<uint16_t>(3, 4) = 65535;
+    writePng16(in + "/depth/00001.png", d);
+    const RunResult r = runConvert({in, "-o", out});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(contains(r.out, fmt::format("note: 1 of {} depth pixels", 2 * (kW * kH - 1))))
+        << r.out;
+}
+
 TEST_F(ConvertErrors, NicrWithSeveralSequencesNeedsOne)
 {
     const std::string root = folder("nicr/valid");

@@ -170,6 +170,20 @@ TEST_F(Images, OtherFormatsAreRefusedBeforeDecoding)
     EXPECT_EQ(readColorImage(path("c.ppm")).at(1, 2), (std::array<uint8_t, 3>{3, 2, 1}));
 }
 
+// libjpeg only warns at a JPEG cut short, and OpenCV returned a smeared image for it.
+TEST_F(Images, AJpegCutShortIsRefusedAndAWholeOneWithPaddingIsRead)
+{
+    cv::Mat c(64, 80, CV_8UC3);
+    cv::randu(c, 0, 255);
+    std::vector<uint8_t> jpeg;
+    ASSERT_TRUE(cv::imencode(".jpg", c, jpeg));
+    const std::string whole(jpeg.begin(), jpeg.end());
+    EXPECT_EQ(readColorImage(write("whole.jpg", whole)).width, 80);
+    EXPECT_EQ(readColorImage(write("padded.jpg", whole + std::string(16, '\0'))).width, 80);
+    EXPECT_INPUT_ERROR(readColorImage(write("cut.jpg", whole.substr(0, whole.size() / 2))), "cut.jpg",
+                       "no end-of-image marker");
+}
+
 TEST(ImageHeaderSize, PngJpegPnmAndOthers)
 {
     const std::string png = pngHeaderClaiming(640, 480, 16, 0);

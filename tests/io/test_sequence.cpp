@@ -249,6 +249,23 @@ TEST_F(Sequences, TumAssociatesStampsScalesDepthAndInterpolatesPoses)
     EXPECT_NE(a.frames[1].depth_path.find("depth/"), std::string::npos);
     EXPECT_DOUBLE_EQ(openTumSequence(dir()).frames[0].K.fx, 525.0);  // TUM default intrinsics
 
+    // Lines out of time order or repeated: named, with both lines.
+    const std::string line0 = num(td[0] + 0.004) + " rgb/" + num(td[0] + 0.004) + ".png " + num(td[0]) + " depth/" + num(td[0]) + ".png\n";
+    const std::string line1 = num(td[1] + 0.004) + " rgb/" + num(td[1] + 0.004) + ".png " + num(td[1]) + " depth/" + num(td[1]) + ".png\n";
+    write("associations.txt", line1 + line0);
+    EXPECT_INPUT_ERROR(openTumSequence(dir(), o), "associations.txt", "line 2", "is not after the one of line 1");
+    write("associations.txt", line0 + line1 + line1);
+    EXPECT_INPUT_ERROR(openTumSequence(dir(), o), "associations.txt", "line 3", "in time order");
+
+    // The layout the tools tell by (io::openRecordingFolder): an association file is TUM's.
+    write("associations.txt", line0 + line1);
+    EXPECT_TRUE(isTumFolder(dir()));
+    EXPECT_EQ(openRecordingFolder(dir()).kind, "tum");
+    std::filesystem::remove(path("rgb.txt"));
+    EXPECT_TRUE(isTumFolder(dir())) << "associations.txt alone";
+    std::filesystem::remove(path("associations.txt"));
+    EXPECT_FALSE(isTumFolder(dir())) << "depth.txt alone";
+
     write("associations.txt", "1 rgb/x.png\n");
     EXPECT_INPUT_ERROR(openTumSequence(dir(), o), "associations.txt", "line 1", "not found");
     write("associations.txt", "1 rgb/x.png 2\n");

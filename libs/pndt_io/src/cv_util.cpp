@@ -106,6 +106,17 @@ std::vector<uint8_t> readCheckedImageBytes(const std::string& path)
         detail::failFile(path, "cannot decode image: not a PNG, JPEG, PNM or PFM image (the only formats the image readers decode)");
     }
     if (const std::string problem = imageSizeProblem(wh[0], wh[1]); !problem.empty()) detail::failFile(path, problem);
+    // libjpeg only warns at a cut JPEG and OpenCV returns the rows it had, the rest smeared:
+    // a JPEG must hold its end-of-image marker (FF D9; some writers pad after it).
+    if (bytes.size() >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF)
+    {
+        const size_t tail = std::min<size_t>(bytes.size() - 2, 1024);
+        bool end_marker = false;
+        for (size_t i = bytes.size() - 2; !end_marker && i + tail >= bytes.size() - 2 && i >= 2; --i)
+            end_marker = bytes[i] == 0xFF && bytes[i + 1] == 0xD9;
+        if (!end_marker)
+            detail::failFile(path, "cannot decode image: the JPEG has no end-of-image marker (a cut or truncated file)");
+    }
     return bytes;
 }
 }  // namespace pndt::io

@@ -61,7 +61,7 @@ std::vector<Assoc> readAssociationFile(const std::string& dir, const std::string
     detail::LineReader in(file);
     std::vector<Assoc> out;
     std::string line;
-    size_t index = 0;
+    size_t index = 0, previous_line = 0;
     while (in.next(line))
     {
         if (detail::isBlankOrComment(line)) continue;
@@ -99,6 +99,14 @@ std::vector<Assoc> readAssociationFile(const std::string& dir, const std::string
                                          "(depth_file colour_file), got {}",
                                          tok.size()));
         }
+        // Poses are looked up and maps handed over by frame time: a file out of order (or with a
+        // line twice) made a rawlog whose poses pndt-map refuses, blaming the rawlog.
+        if (!out.empty() && !(a.t_depth > out.back().t_depth))
+            detail::failLine(file, in.lineNo(),
+                             fmt::format("depth stamp {:.6f} is not after the one of line {} ({:.6f}): the frames must "
+                                         "be in time order, each once (sort the file by time, drop repeated lines)",
+                                         a.t_depth, previous_line, out.back().t_depth));
+        previous_line = in.lineNo();
         if (!detail::isRegularFile(a.depth))
             detail::failLine(file, in.lineNo(), fmt::format("depth file '{}' not found", a.depth));
         if (!detail::isRegularFile(a.color))

@@ -236,7 +236,7 @@ void encodeIdScoreImage(const Image<uint32_t>& ids, const Image<float>& scores, 
     encodeImage(ids, scores, out);
 }
 
-void rangeScanFrom(const PanopticFrame& f, mrpt::obs::CObservation3DRangeScan& o)
+size_t rangeScanFrom(const PanopticFrame& f, mrpt::obs::CObservation3DRangeScan& o)
 {
     const int W = f.depth.width, H = f.depth.height;
     o.hasRangeImage = true;
@@ -244,12 +244,15 @@ void rangeScanFrom(const PanopticFrame& f, mrpt::obs::CObservation3DRangeScan& o
     o.rangeUnits = 0.001f;
     o.range_is_depth = true;
     float farthest = 0;
+    size_t unstored = 0;
     for (int r = 0; r < H; ++r)
         for (int c = 0; c < W; ++c)
         {
             const float d = f.depth.at(r, c);
             const bool ok = d > 0 && d < 65.535f;
-            o.rangeImage(r, c) = ok ? uint16_t(std::lround(d * 1000.f)) : 0;
+            const uint16_t mm = ok ? uint16_t(std::lround(d * 1000.f)) : 0;
+            o.rangeImage(r, c) = mm;
+            unstored += (d > 0 && std::isfinite(d) && mm == 0);  // NaN and inf: no depth to lose
             if (ok) farthest = std::max(farthest, d);
         }
     // MRPT's default is 5 m; tools that honour maxRange must see every sample.
@@ -261,6 +264,7 @@ void rangeScanFrom(const PanopticFrame& f, mrpt::obs::CObservation3DRangeScan& o
     o.cameraParams.cx(f.K.cx);
     o.cameraParams.cy(f.K.cy);
     o.cameraParamsIntensity = o.cameraParams;
+    return unstored;
 }
 
 void labelImagesFrom(const PanopticFrame& f, const std::string& rgbd_label, mrpt::Clock::time_point stamp,

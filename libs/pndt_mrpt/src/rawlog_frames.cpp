@@ -49,7 +49,7 @@ void RawlogFrameWriter::write(const PanopticFrame& f, double t, const std::optio
     scan.sensorLabel = label_;
     scan.timestamp = stamp;
     scan.sensorPose = sensor_pose_;
-    rangeScanFrom(f, scan);
+    unstored_depth_ += rangeScanFrom(f, scan);
     if (rgb && !rgb->empty())
     {
         scan.hasIntensityImage = true;

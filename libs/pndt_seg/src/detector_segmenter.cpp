@@ -6,12 +6,28 @@
 
 namespace pndt::seg
 {
+namespace
+{
+/// The description's classes mapped onto the map's, an error naming the description file.
+std::vector<uint16_t> classesOf(const ModelDescription& d, const ClassSet& classes)
+{
+    try
+    {
+        return mapDetectorClasses(d.classes, d.class_map, classes);
+    }
+    catch (const InputError& e)
+    {
+        throw InputError(fmt::format("{}: {}", d.path, e.what()));
+    }
+}
+}  // namespace
+
 DetectorSegmenter::DetectorSegmenter(ModelDescription d, const ClassSet& classes, const SegmenterOptions& options)
     : d_(std::move(d)),
       options_(options),
       net_(d_),
       classes_(classes),
-      detector_to_class_(mapDetectorClasses(d_.classes, d_.class_map, classes)),
+      detector_to_class_(classesOf(d_, classes)),
       labeller_(classes, detector_to_class_, d_.geometry)
 {
     net_.checkOutputs({int(d_.classes.size()), 4});

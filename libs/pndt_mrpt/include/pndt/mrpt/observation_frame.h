@@ -32,8 +32,10 @@ void attachPanopticLabels(const mrpt::obs::CObservationImage& semantic, const mr
                           PanopticFrame& frame);
 
 /// The frame's depth as a range scan (millimetre units, range_is_depth) with
-/// the frame's intrinsics; depth beyond 65.535 m or invalid becomes 0.
-void rangeScanFrom(const PanopticFrame& frame, mrpt::obs::CObservation3DRangeScan& out);
+/// the frame's intrinsics; depth beyond 65.535 m or invalid becomes 0. Returns how many
+/// positive depths could not be stored that way (>= 65.535 m, or < 0.5 mm, rounding to 0):
+/// many of them mean a wrong depth scale upstream.
+size_t rangeScanFrom(const PanopticFrame& frame, mrpt::obs::CObservation3DRangeScan& out);
 
 /// The frame's labels as the two design §5 images: `<label>_PANOPTIC_SEMANTIC`
 /// (class + S^L) and `<label>_PANOPTIC_INSTANCE` (instance + S^P).

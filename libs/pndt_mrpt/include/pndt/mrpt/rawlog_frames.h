@@ -41,6 +41,8 @@ class RawlogFrameWriter
 
     void commit();
     size_t framesWritten() const { return frames_; }
+    /// Positive depths of the frames written that a rawlog could not store (rangeScanFrom).
+    size_t unstoredDepthPixels() const { return unstored_depth_; }
     const std::string& label() const { return label_; }
 
    private:
@@ -48,6 +50,7 @@ class RawlogFrameWriter
     mrpt::poses::CPose3D sensor_pose_;
     std::unique_ptr<mrpt::io::CFileGZOutputStream> out_;
     size_t frames_ = 0;
+    size_t unstored_depth_ = 0;
     bool committed_ = false;
 };
 
