@@ -36,6 +36,7 @@ cmake -S "$SRC" -B "$WORK/build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_PRE
   || { cat "$WORK/configure.log" >&2; exit 1; }
 cmake --build "$WORK/build" > "$WORK/build.log" || { cat "$WORK/build.log" >&2; exit 1; }
 "$WORK/build/consumer"
+"$WORK/build/ini_only"
 "$WORK/build/embedding_example" > "$WORK/example.log" || { cat "$WORK/example.log" >&2; echo "the embedding example failed" >&2; exit 1; }
 # The installed app finds its installed config (not the source tree's).
 "$PREFIX/bin/pndt-map" --help > /dev/null
