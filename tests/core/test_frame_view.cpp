@@ -217,3 +217,70 @@ TEST(FrameView, BadViewsAreRefusedNamingTheSource)
     EXPECT_EQ(message(), "no error");
     EXPECT_GT(map.voxels().size(), 0u);
 }
+
+// Intrinsics and poses an integrator can get wrong: each refused by name, by integrate() and by
+// render() alike (render() walked endless rays for fx = 0 or 1e-12).
+TEST(FrameView, BadIntrinsicsAndPosesAreNamedByIntegrateAndRender)
+{
+    const CameraIntrinsics good{8, 6, 10, 10, 3.5, 2.5};
+    EXPECT_EQ(good.problem(), "");
+    auto with = [&](auto change) {
+        CameraIntrinsics K = good;
+        change(K);
+        return K;
+    };
+    const std::vector<std::pair<CameraIntrinsics, std::string>> bad = {
+        {with([](CameraIntrinsics& K) { K.width = -5; }), "size -5x6 is not positive"},
+        {with([](CameraIntrinsics& K) { K.fx = 0; }), "fx=0.000000 is not a positive number"},
+        {with([](CameraIntrinsics& K) { K.fy = NAN; }), "fy=nan is not a positive number"},
+        {with([](CameraIntrinsics& K) { K.cx = NAN; }), "cx=nan is not a number"},
+        {with([](CameraIntrinsics& K) { K.cy = INFINITY; }), "cy=inf is not a number"},
+        // The edge columns are 3.5 from cx: fx must be at least 0.035 (tan 89.4 degrees = 100).
+        {with([](CameraIntrinsics& K) { K.fx = 0.034; }), "more than 89.4 degrees off the optical axis"},
+    };
+    EXPECT_EQ(with([](CameraIntrinsics& K) { K.fx = 0.036; }).problem(), "");
+    std::vector<uint16_t> mm(48, 1000);
+    PanopticMap map{MapOptions{}};
+    FrameView v;
+    v.depth = DepthView::units(mm.data(), 8, 6, 0.001);
+    v.source = "cam";
+    v.K = good;
+    map.integrate(v, Pose::Identity());
+    RenderedView out;
+    for (const auto& [K, what] : bad)
+    {
+        EXPECT_NE(K.problem().find(what), std::string::npos) << K.problem();
+        v.K = K;
+        try
+        {
+            map.integrate(v, Pose::Identity());
+            ADD_FAILURE() << "integrate took " << what;
+        }
+        catch (const InputError& e)
+        {
+            EXPECT_EQ(std::string(e.what()).rfind("cam: invalid camera intrinsics: ", 0), 0u) << e.what();
+            EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+        }
+        try
+        {
+            map.render(Pose::Identity(), K, out);
+            ADD_FAILURE() << "render took " << what;
+        }
+        catch (const InputError& e)
+        {
+            EXPECT_EQ(std::string(e.what()).rfind("render: invalid camera intrinsics: ", 0), 0u) << e.what();
+            EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+        }
+    }
+    // A rotation matrix from the unnormalised quaternion (0.6, 0.6, 0, 0): a rotation scaled by 0.72.
+    Pose scaled = Pose::Identity();
+    scaled.linear() = Eigen::Quaterniond(0.6, 0.6, 0, 0).toRotationMatrix();  // not normalised
+    EXPECT_NE(poseProblem(scaled).find("not a rotation"), std::string::npos) << poseProblem(scaled);
+    EXPECT_EQ(poseProblem(Pose(Eigen::Quaterniond(0.6, 0.6, 0, 0).normalized())), "");
+    v.K = good;
+    EXPECT_THROW(map.integrate(v, scaled), InputError);
+    EXPECT_THROW(map.render(scaled, good, out), InputError);
+    Pose nan_pose = Pose::Identity();
+    nan_pose.translation().x() = NAN;
+    EXPECT_THROW(map.render(nan_pose, good, out), InputError);
+}

@@ -200,8 +200,8 @@ FrameStats PanopticMap::integrate(const FrameView& view, const Pose& T_world_cam
     const auto caller_waiting = pool ? pool->callerWaiting() : std::chrono::nanoseconds(0);
     const FramePixels frame = resolveFrame(view, options_, scratch_->input);
     validateClasses(frame);
-    if (!T_world_cam.matrix().allFinite())
-        throw InputError(fmt::format("{}: camera pose is not finite", frame.where()));
+    if (const std::string problem = poseProblem(T_world_cam); !problem.empty())
+        throw InputError(fmt::format("{}: {}", frame.where(), problem));
 
     FrameStats st;
     invalidate();

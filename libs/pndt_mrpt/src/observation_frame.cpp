@@ -30,8 +30,8 @@ CameraIntrinsics rangeIntrinsics(const mrpt::obs::CObservation3DRangeScan& obs, 
     K.fy = cam.fy();
     K.cx = cam.cx();
     K.cy = cam.cy();
-    if (!K.valid() || !std::isfinite(K.fx) || !std::isfinite(K.cx))
-        throw InputError(fmt::format("{}: invalid depth camera intrinsics (fx={}, fy={})", who, K.fx, K.fy));
+    if (const std::string problem = K.problem(); !problem.empty())
+        throw InputError(fmt::format("{}: invalid depth camera intrinsics: {}", who, problem));
     if (int(cam.ncols) != W || int(cam.nrows) != H)
         throw InputError(fmt::format("{}: range image is {}x{} but its camera model is {}x{}", who, W, H, cam.ncols,
                                      cam.nrows));

@@ -3,7 +3,10 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <string>
 #include <stdexcept>
 #include <vector>
 
@@ -50,7 +53,27 @@ struct CameraIntrinsics
     int height = 0;
     double fx = 0, fy = 0, cx = 0, cy = 0;
 
-    bool valid() const { return width > 0 && height > 0 && fx > 0 && fy > 0; }
+    bool valid() const { return problem().empty(); }
+    /// Empty if the intrinsics describe a camera, else what is wrong, naming the field: a
+    /// positive size, finite values, positive focal lengths, and no pixel's ray more than
+    /// 89.4 degrees off the optical axis (a focal length of 1e-12 made rays of 10^14 m).
+    std::string problem() const
+    {
+        const auto num = [](double v) { return std::to_string(v); };
+        if (width <= 0 || height <= 0)
+            return "size " + std::to_string(width) + "x" + std::to_string(height) + " is not positive";
+        if (!(std::isfinite(fx) && fx > 0)) return "fx=" + num(fx) + " is not a positive number";
+        if (!(std::isfinite(fy) && fy > 0)) return "fy=" + num(fy) + " is not a positive number";
+        if (!std::isfinite(cx)) return "cx=" + num(cx) + " is not a number";
+        if (!std::isfinite(cy)) return "cy=" + num(cy) + " is not a number";
+        constexpr double kMaxSlope = 100;  // tan(89.4 deg)
+        if (std::max(std::abs(cx), std::abs(width - 1 - cx)) > kMaxSlope * fx ||
+            std::max(std::abs(cy), std::abs(height - 1 - cy)) > kMaxSlope * fy)
+            return "fx=" + num(fx) + ", fy=" + num(fy) + " with cx=" + num(cx) + ", cy=" + num(cy) + " at " +
+                   std::to_string(width) + "x" + std::to_string(height) +
+                   " give pixels more than 89.4 degrees off the optical axis";
+        return {};
+    }
 
     /// Point in the camera frame for pixel (col,row) at depth z (metres, along +z).
     Eigen::Vector3d unproject(double col, double row, double z) const
@@ -90,6 +113,20 @@ enum class RangeKind
 
 /// Rigid transform; `T_a_b` maps points from frame b into frame a.
 using Pose = Eigen::Isometry3d;
+
+/// Empty if T is a rigid motion (finite, its rotation orthonormal with determinant 1 within
+/// 1e-3), else what is wrong: an unnormalised quaternion read from a file scales the scene.
+inline std::string poseProblem(const Pose& T)
+{
+    if (!T.matrix().allFinite()) return "the camera pose is not finite";
+    const Eigen::Matrix3d R = T.linear();
+    const double off = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+    const double det = R.determinant();
+    if (off > 1e-3 || std::abs(det - 1) > 1e-3)
+        return "the camera pose's rotation is not a rotation (R^T R differs from I by up to " + std::to_string(off) +
+               ", det R = " + std::to_string(det) + "; an unnormalised quaternion?)";
+    return {};
+}
 
 /// Thrown for malformed input (sizes, labels, files); the message names the source.
 struct InputError : std::runtime_error
