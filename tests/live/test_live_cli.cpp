@@ -936,9 +936,11 @@ TEST(PoseSend, BadPortsRefusedDatagramsAndAReceiverThatWentAwayAreSaid)
     EXPECT_NE(rc, 0) << out;
     // A receiver that takes the first line and closes: the poses already sent are said.
     const int port = 25000 + int(::getpid() % 5000);
-    sh(fmt::format("cd {1} && (timeout 5 python3 -c \"import socket; s=socket.socket(); "
+    // The receiver says when it listens (a fixed sleep lost the race on a loaded machine).
+    sh(fmt::format("cd {1} && rm -f ready && (timeout 20 python3 -c \"import socket; s=socket.socket(); "
                    "s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1); s.bind(('127.0.0.1', {0})); s.listen(1); "
-                   "c,_=s.accept(); c.recv(40); c.close(); s.close()\" &) ; sleep 0.5; "
+                   "open('ready', 'w').close(); c,_=s.accept(); c.recv(40); c.close(); s.close()\" &) ; "
+                   "for i in $(seq 400); do [ -e ready ] && break; sleep 0.05; done; "
                    "{2} p.txt --format tum --to 127.0.0.1:{0} --rate 20 --connect-timeout 0.5 > out.txt 2>&1",
                    port, dir.string(), PNDT_POSE_SEND_EXE));
     out = slurp(dir / "out.txt");

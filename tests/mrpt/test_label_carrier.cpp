@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <pndt/mrpt/observation_frame.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -98,9 +99,13 @@ TEST(LabelCarrier, EncodedLabelsDecodeToThemselves)
     EXPECT_EQ(g.instance.data, f.instance.data);
     for (size_t i = 0; i < n; ++i)
     {
-        // float(id) + score rounds the score to the id's float spacing: compare as encoded.
-        const float s = float(f.semantic.data[i]) + std::clamp(f.semantic_score.data[i], 0.f, 0.999f);
-        const float z = float(f.instance.data[i]) + std::clamp(f.panoptic_score.data[i], 0.f, 0.999f);
+        // float(id) + score rounds the score to the id's float spacing, kept below id + 1:
+        // compare as encoded.
+        const auto encoded = [](uint32_t id, float score) {
+            return std::min(float(id) + std::clamp(score, 0.f, 0.999f), std::nextafter(float(id) + 1.f, 0.f));
+        };
+        const float s = encoded(f.semantic.data[i], f.semantic_score.data[i]);
+        const float z = encoded(f.instance.data[i], f.panoptic_score.data[i]);
         ASSERT_EQ(g.semantic_score.data[i], s - std::floor(s)) << i;
         ASSERT_EQ(g.panoptic_score.data[i], z - std::floor(z)) << i;
     }
@@ -111,6 +116,48 @@ TEST(LabelCarrier, EncodedLabelsDecodeToThemselves)
     attachPanopticLabels(sem, inst, g);
     EXPECT_EQ(g.instance.data, std::vector<uint32_t>(n, 0));
     EXPECT_EQ(g.panoptic_score.data, std::vector<float>(n, 0.f));
+}
+
+// From 2^15 on the float spacing exceeds 0.002: id + 0.999 rounded to id + 1, so a pixel of
+// instance 32768 with score 0.999 came back as instance 32769 (4194304 + 0.9 as 4194305).
+TEST(LabelCarrier, LargeIdsComeBackExactAndIdsBeyond2To24AreRefused)
+{
+    PanopticFrame f = wallFrame();
+    const std::vector<uint32_t> ids = {32768, 40000, 65535, 65536, 1000000, 4194304, 16777215};
+    const std::vector<float> scores = {0.999f, 0.9f, 0.5f, 0.1f};
+    f.semantic.resize(fixtures::kW, fixtures::kH, 5);
+    f.semantic_score.resize(fixtures::kW, fixtures::kH, 0.999f);
+    f.instance.resize(fixtures::kW, fixtures::kH);
+    f.panoptic_score.resize(fixtures::kW, fixtures::kH);
+    for (size_t i = 0; i < f.instance.size(); ++i)
+    {
+        f.instance.data[i] = ids[i % ids.size()];
+        f.panoptic_score.data[i] = scores[i % scores.size()];
+    }
+    mrpt::obs::CObservationImage sem, inst;
+    labelImagesFrom(f, "RGBD", fixtures::stamp(0), sem, inst);
+    PanopticFrame g = wallFrame();
+    attachPanopticLabels(sem, inst, g);
+    EXPECT_EQ(g.instance.data, f.instance.data);
+    for (size_t i = 0; i < f.instance.size(); ++i)
+    {
+        // The score as precise as the id's float spacing allows (0.5 at 2^22).
+        const float spacing = std::nextafter(float(f.instance.data[i]) + 1.f, 2e9f) - (float(f.instance.data[i]) + 1.f);
+        ASSERT_LE(std::abs(g.panoptic_score.data[i] - f.panoptic_score.data[i]), std::max(spacing, 0.002f))
+            << f.instance.data[i] << " " << f.panoptic_score.data[i];
+    }
+    f.instance.data[7] = 16777216;
+    try
+    {
+        labelImagesFrom(f, "RGBD", fixtures::stamp(0), sem, inst);
+        ADD_FAILURE() << "id 2^24 encoded";
+    }
+    catch (const InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("instance id 16777216 at pixel (row 0, col 7) does not fit"),
+                  std::string::npos)
+            << e.what();
+    }
 }
 
 TEST(LabelCarrier, ErrorsNameTheFirstBadPixelInTheOrderTheyAreChecked)

@@ -4,6 +4,7 @@
 #include <pndt/mrpt/observation_frame.h>
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 #include <vector>
 
@@ -181,24 +182,49 @@ bool decodeImage(const mrpt::img::CImage& img, float limit, Image<Id>& ids, Imag
     return ok;
 }
 
-/// ids + clamped scores (0 where there are none) as "id + score" floats, one row.
+/// Ids a float label image carries exactly: below 2^24, where floats stop holding every integer.
+constexpr uint32_t kFloatExactIds = 1u << 24;
+
+/// ids + clamped scores (0 where there are none) as "id + score" floats, one row. Above 2^15
+/// the float spacing exceeds 0.002, and id + 0.999 rounded up to id + 1: the next id. The
+/// sum is kept below id + 1 (the largest float under it), so the id stays exact and only the
+/// score's precision falls with the id (1/256 at 65536, 1/2 at 2^22). Returns false if an
+/// id is 2^24 or more (nothing written for it is exact). No branch per pixel.
 template <typename Id>
-void encodeRow(const Id* ids, const float* scores, int n, float* out)
+bool encodeRow(const Id* ids, const float* scores, int n, float* out)
 {
-    if (!scores)
-        for (int c = 0; c < n; ++c) out[c] = float(ids[c]);
-    else
-        for (int c = 0; c < n; ++c) out[c] = float(ids[c]) + std::clamp(scores[c], 0.f, 0.999f);
+    uint32_t bad = 0;
+    for (int c = 0; c < n; ++c)
+    {
+        const uint32_t id = uint32_t(ids[c]);
+        bad |= uint32_t(id >= kFloatExactIds);
+        const float base = float(id);
+        const float sum = scores ? base + std::clamp(scores[c], 0.f, 0.999f) : base;
+        uint32_t below_next;  // the largest float below id + 1 (exact: id + 1 <= 2^24)
+        const float next = base + 1.f;
+        std::memcpy(&below_next, &next, sizeof below_next);
+        below_next -= 1;
+        float cap;
+        std::memcpy(&cap, &below_next, sizeof cap);
+        out[c] = std::min(sum, cap);
+    }
+    return bad == 0;
 }
 
 template <typename Id>
-void encodeImage(const Image<Id>& ids, const Image<float>& scores, mrpt::img::CImage& out)
+void encodeImage(const Image<Id>& ids, const Image<float>& scores, mrpt::img::CImage& out, const char* what)
 {
     out.resize(ids.width, ids.height, mrpt::img::CH_GRAY, mrpt::img::PixelDepth::D32F);
     const size_t W = size_t(ids.width);
     for (int r = 0; r < ids.height; ++r)
-        encodeRow(ids.data.data() + r * W, scores.empty() ? nullptr : scores.data.data() + r * W, ids.width,
-                  out.ptrLine<float>(r));
+        if (!encodeRow(ids.data.data() + r * W, scores.empty() ? nullptr : scores.data.data() + r * W, ids.width,
+                       out.ptrLine<float>(r)))
+            for (int c = 0; c < ids.width; ++c)
+                if (uint32_t(ids.data[r * W + size_t(c)]) >= kFloatExactIds)
+                    throw InputError(fmt::format(
+                        "{} id {} at pixel (row {}, col {}) does not fit a float label image (\"id + score\", "
+                        "exact below 2^24 = 16777216)",
+                        what, uint32_t(ids.data[r * W + size_t(c)]), r, c));
 }
 }  // namespace
 
@@ -233,7 +259,7 @@ void attachPanopticLabels(const mrpt::obs::CObservationImage& semantic, const mr
 
 void encodeIdScoreImage(const Image<uint32_t>& ids, const Image<float>& scores, mrpt::img::CImage& out)
 {
-    encodeImage(ids, scores, out);
+    encodeImage(ids, scores, out, "label");
 }
 
 size_t rangeScanFrom(const PanopticFrame& f, mrpt::obs::CObservation3DRangeScan& o)
@@ -270,11 +296,11 @@ size_t rangeScanFrom(const PanopticFrame& f, mrpt::obs::CObservation3DRangeScan&
 void labelImagesFrom(const PanopticFrame& f, const std::string& rgbd_label, mrpt::Clock::time_point stamp,
                      mrpt::obs::CObservationImage& sem, mrpt::obs::CObservationImage& inst)
 {
-    encodeImage(f.semantic, f.semantic_score, sem.image);
+    encodeImage(f.semantic, f.semantic_score, sem.image, "class");
     sem.sensorLabel = rgbd_label + "_PANOPTIC_SEMANTIC";
     sem.timestamp = stamp;
     if (f.hasInstances())
-        encodeImage(f.instance, f.panoptic_score, inst.image);
+        encodeImage(f.instance, f.panoptic_score, inst.image, "instance");
     else
     {
         inst.image.resize(f.depth.width, f.depth.height, mrpt::img::CH_GRAY, mrpt::img::PixelDepth::D32F);

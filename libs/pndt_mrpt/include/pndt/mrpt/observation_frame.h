@@ -42,7 +42,9 @@ size_t rangeScanFrom(const PanopticFrame& frame, mrpt::obs::CObservation3DRangeS
 void labelImagesFrom(const PanopticFrame& frame, const std::string& rgbd_label, mrpt::Clock::time_point stamp,
                      mrpt::obs::CObservationImage& semantic, mrpt::obs::CObservationImage& instance);
 
-/// Encodes ids + scores as one float image (score clamped to [0, 0.999]).
+/// Encodes ids + scores as one float image (score clamped to [0, 0.999], and below the next
+/// id: the id stays exact, the score's precision falls with the id: 1/256 at 65536). Ids of
+/// 2^24 or more do not fit: InputError naming the first such pixel (so does labelImagesFrom).
 void encodeIdScoreImage(const Image<uint32_t>& ids, const Image<float>& scores, mrpt::img::CImage& out);
 
 /// Optical camera pose in the world: robot pose, then the sensor's pose on the
