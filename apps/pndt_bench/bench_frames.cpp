@@ -78,6 +78,7 @@ BenchFrames makeRoomFrames(int n, int width, int height, double max_range, doubl
         if (noise > 0) addNetworkLikeNoise(f, r.semantic, r.instance, noise, rng);
         for (auto& z : f.instance.data) z = z ? perm[z % 64] : 0;
         b.world_points.push_back(worldPoints(f, T));
+        f.scores_in_range = true;  // made in [0, 1] here, as pndt-map's decoded frames are: no check pass
         b.frames.push_back(std::move(f));
     }
     return b;
@@ -133,6 +134,7 @@ BenchFrames makeRecordingFrames(const std::string& folder, int n, double max_ran
         for (auto& z : f.instance.data) z = z ? perm[z % 64] : 0;
         b.poses.push_back(*rf.T_world_cam);
         b.world_points.push_back(worldPoints(f, b.poses.back()));
+        f.scores_in_range = true;  // made in [0, 1] here, as pndt-map's decoded frames are: no check pass
         b.frames.push_back(std::move(f));
     }
     return b;

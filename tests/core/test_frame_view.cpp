@@ -284,3 +284,41 @@ TEST(FrameView, BadIntrinsicsAndPosesAreNamedByIntegrateAndRender)
     nan_pose.translation().x() = NAN;
     EXPECT_THROW(map.render(nan_pose, good, out), InputError);
 }
+
+// Scores are probabilities: one frame's 5.0 ("sure") outvoted four frames of 0.9 for another
+// class. Refused by name unless the frame says its scores are fractions by construction.
+TEST(FrameView, ScoresOutsideZeroToOneAreRefusedByPixel)
+{
+    const CameraIntrinsics K{8, 6, 10, 10, 3.5, 2.5};
+    std::vector<uint16_t> mm(48, 1000), sem(48, 5);
+    std::vector<float> score(48, 0.9f);
+    FrameView v;
+    v.K = K;
+    v.source = "net";
+    v.depth = DepthView::units(mm.data(), 8, 6, 0.001);
+    v.semantic = {sem.data(), 8, 6};
+    v.semantic_score = {score.data(), 8, 6};
+    PanopticMap map{MapOptions{}};
+    map.integrate(v, Pose::Identity());
+    for (const float bad : {5.0f, -0.1f, float(NAN)})
+    {
+        score[13] = bad;  // row 1, col 5
+        try
+        {
+            map.integrate(v, Pose::Identity());
+            ADD_FAILURE() << bad << " taken";
+        }
+        catch (const InputError& e)
+        {
+            EXPECT_NE(std::string(e.what()).find("net: semantic score"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("at pixel (row 1, col 5) is not a probability (0 to 1)"),
+                      std::string::npos)
+                << e.what();
+        }
+    }
+    score[13] = 1.0f;
+    EXPECT_NO_THROW(map.integrate(v, Pose::Identity()));
+    score[13] = 5.0f;
+    v.scores_in_range = true;  // the caller vouches for them: no check pass
+    EXPECT_NO_THROW(map.integrate(v, Pose::Identity()));
+}

@@ -91,6 +91,7 @@ void depthFrameFrom(const mrpt::obs::CObservation3DRangeScan& obs, PanopticFrame
         }
     }
     // No labels yet; a reused frame keeps the allocations for the next labels.
+    out.scores_in_range = false;
     out.semantic.reshape(0, 0);
     out.semantic_score.reshape(0, 0);
     out.instance.reshape(0, 0);
@@ -245,10 +246,12 @@ void attachPanopticLabels(const mrpt::obs::CObservationImage& semantic, const mr
             throw InputError(describeObservation(instance) + ": invalid id+score value");  // not reached
         }
         if (!sem_ok) throwFirstWideClass(semantic);
+        f.scores_in_range = true;  // fractions of "id + score": in [0, 1) by construction
     }
     catch (...)
     {
         // No half-decoded labels: a caller that goes on maps the frame geometry-only.
+        f.scores_in_range = false;
         f.semantic = {};
         f.semantic_score = {};
         f.instance = {};
