@@ -108,6 +108,16 @@ TEST_P(Localisation, DepthLikelihoodPeaksAtTheTruePose)
     }
 }
 
+// canCompute... said yes to a 3D scan without a range image, then compute... threw for it.
+TEST_P(Localisation, AScanWithoutRangeImageIsOneItCannotScore)
+{
+    auto obs = depthScanAt(kTruePose);
+    const mrpt::maps::CMetricMap& m = map();
+    ASSERT_TRUE(m.canComputeObservationLikelihood(obs));
+    obs.hasRangeImage = false;
+    EXPECT_FALSE(m.canComputeObservationLikelihood(obs));
+}
+
 TEST_P(Localisation, LaserLikelihoodPeaksAtTheTruePose)
 {
     const auto obs = laserScanAt(kTruePose);

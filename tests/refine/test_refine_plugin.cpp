@@ -41,3 +41,29 @@ TEST(RefinePlugin, InsertionOptionRunsTheRefiner)
     EXPECT_EQ(view_map.refiner()->stats().frames, 3u);
     EXPECT_EQ(view_map.refiner()->stats().fallbacks(), 3u);
 }
+
+// clear() kept the refiner and its carried correction: the cleared map's next frame was moved
+// by a correction estimated against voxels no longer there. A copy starts its own refiner too.
+TEST(RefinePlugin, ClearAndCopiesStartWithoutACarriedCorrection)
+{
+    pndt::PanopticNDTMap map;
+    map.insertionOptions.refine_pose = true;
+    pndt::PanopticFrame f;
+    f.K = {80, 60, 60, 60, 39.5, 29.5};
+    f.depth = pndt::Image<float>(80, 60, 2.0f);
+    map.integrate(f, pndt::Pose::Identity());
+    ASSERT_NE(map.refiner(), nullptr);
+    pndt::PanopticNDTMap copy(map);
+    EXPECT_EQ(copy.refiner(), nullptr);
+    pndt::PanopticNDTMap assigned;
+    assigned.insertionOptions.refine_pose = true;
+    assigned.integrate(f, pndt::Pose::Identity());
+    assigned = map;
+    EXPECT_EQ(assigned.refiner(), nullptr);
+    map.clear();
+    EXPECT_TRUE(map.isEmpty());
+    EXPECT_EQ(map.refiner(), nullptr);
+    map.integrate(f, pndt::Pose::Identity());
+    ASSERT_NE(map.refiner(), nullptr);
+    EXPECT_EQ(map.refiner()->stats().frames, 1u);  // a new refiner: the frame before clear() is gone
+}

@@ -36,6 +36,7 @@ PanopticNDTMap& PanopticNDTMap::operator=(const PanopticNDTMap& o)
     map_ = o.map_;
     pairer_ = o.pairer_;
     stats_ = o.stats_;
+    refiner_.reset();  // as a copy does: its own refiner from its next refined frame
     return *this;
 }
 
@@ -44,6 +45,7 @@ void PanopticNDTMap::internal_clear()
     map_.clear();
     pairer_.clear();
     stats_ = {};
+    refiner_.reset();  // its carried correction was against the map just cleared
 }
 
 bool PanopticNDTMap::isEmpty() const { return map_.voxels().empty(); }

@@ -26,7 +26,9 @@ double maxRangeFor(const LikelihoodOptions& o, const PanopticMap& map)
 
 bool PanopticNDTMap::internal_canComputeObservationLikelihood(const mrpt::obs::CObservation& obs) const
 {
-    return IS_CLASS(obs, CObservation3DRangeScan) || IS_CLASS(obs, CObservation2DRangeScan);
+    // As computeObservationLikelihood reads them: a 3D scan needs its range image.
+    if (IS_CLASS(obs, CObservation3DRangeScan)) return static_cast<const CObservation3DRangeScan&>(obs).hasRangeImage;
+    return IS_CLASS(obs, CObservation2DRangeScan);
 }
 
 double PanopticNDTMap::internal_computeObservationLikelihood(const mrpt::obs::CObservation& obs,

@@ -138,7 +138,8 @@ class PanopticNDTMap : public mrpt::maps::CMetricMap
     std::vector<PairedFrame> paired_;  ///< reused between observations
     InsertionStats stats_;
     mutable ObstacleCache obstacle_cache_;
-    /// insertionOptions.refine_pose: created at the first frame; shared by copies.
+    /// insertionOptions.refine_pose: created at the first refined frame; a copy (or an assigned
+    /// map) starts its own, and clear() drops it with the map its correction was estimated on.
     std::shared_ptr<refine::PoseRefiner> refiner_;
     /// T_world_cam registered to the map when insertionOptions.refine_pose (both integrate paths).
     Pose refinedPose(const FrameView& frame, const Pose& T_world_cam);
