@@ -140,6 +140,12 @@ TEST(PluginIni, UnknownOrMalformedKeysAreErrorsNamingThem)
     EXPECT_NE(message(empty).find("key 'voxel_size': value '' is not a number (to keep the default, remove the key)"),
               std::string::npos)
         << message(empty);
+    // A rule's words come through whole (an interval "[0, 1]" at a message's end lost its "]"
+    // and moved under "Location:").
+    std::string theta = kIni;
+    theta.replace(theta.find("theta_z=0.4"), 11, "theta_z=2.0");
+    EXPECT_NE(message(theta).find("map option 'theta_z' must be between 0 and 1"), std::string::npos)
+        << message(theta);
 }
 
 TEST(PluginPose, CameraConventionAgreesWithMrptUnprojection)

@@ -159,7 +159,7 @@ void RefineOptions::validate() const
         if (w < 0) bad("class_weights must be >= 0");
     if (outer_iterations < 1 || max_iterations < 1) bad("iterations must be >= 1");
     if (min_points < 6) bad("min_points must be >= 6");
-    if (min_eigen_ratio < 0 || min_eigen_ratio >= 1) bad("min_eigen_ratio must be in [0, 1)");
+    if (min_eigen_ratio < 0 || min_eigen_ratio >= 1) bad("min_eigen_ratio must be at least 0 and below 1");
     if (!(max_step_translation > 0) || !(max_step_rotation > 0) || !(max_total_translation > 0) ||
         !(max_total_rotation > 0))
         bad("bounds must be > 0");
