@@ -223,7 +223,7 @@ TEST(FrameView, BadViewsAreRefusedNamingTheSource)
 TEST(FrameView, BadIntrinsicsAndPosesAreNamedByIntegrateAndRender)
 {
     const CameraIntrinsics good{8, 6, 10, 10, 3.5, 2.5};
-    EXPECT_EQ(good.problem(), "");
+    EXPECT_EQ(good.invalidReason(), "");
     auto with = [&](auto change) {
         CameraIntrinsics K = good;
         change(K);
@@ -238,7 +238,7 @@ TEST(FrameView, BadIntrinsicsAndPosesAreNamedByIntegrateAndRender)
         // The edge columns are 3.5 from cx: fx must be at least 0.035 (tan 89.4 degrees = 100).
         {with([](CameraIntrinsics& K) { K.fx = 0.034; }), "more than 89.4 degrees off the optical axis"},
     };
-    EXPECT_EQ(with([](CameraIntrinsics& K) { K.fx = 0.036; }).problem(), "");
+    EXPECT_EQ(with([](CameraIntrinsics& K) { K.fx = 0.036; }).invalidReason(), "");
     std::vector<uint16_t> mm(48, 1000);
     PanopticMap map{MapOptions{}};
     FrameView v;
@@ -249,7 +249,7 @@ TEST(FrameView, BadIntrinsicsAndPosesAreNamedByIntegrateAndRender)
     RenderedView out;
     for (const auto& [K, what] : bad)
     {
-        EXPECT_NE(K.problem().find(what), std::string::npos) << K.problem();
+        EXPECT_NE(K.invalidReason().find(what), std::string::npos) << K.invalidReason();
         v.K = K;
         try
         {
@@ -275,8 +275,8 @@ TEST(FrameView, BadIntrinsicsAndPosesAreNamedByIntegrateAndRender)
     // A rotation matrix from the unnormalised quaternion (0.6, 0.6, 0, 0): a rotation scaled by 0.72.
     Pose scaled = Pose::Identity();
     scaled.linear() = Eigen::Quaterniond(0.6, 0.6, 0, 0).toRotationMatrix();  // not normalised
-    EXPECT_NE(poseProblem(scaled).find("not a rotation"), std::string::npos) << poseProblem(scaled);
-    EXPECT_EQ(poseProblem(Pose(Eigen::Quaterniond(0.6, 0.6, 0, 0).normalized())), "");
+    EXPECT_NE(poseInvalidReason(scaled).find("not a rotation"), std::string::npos) << poseInvalidReason(scaled);
+    EXPECT_EQ(poseInvalidReason(Pose(Eigen::Quaterniond(0.6, 0.6, 0, 0).normalized())), "");
     v.K = good;
     EXPECT_THROW(map.integrate(v, scaled), InputError);
     EXPECT_THROW(map.render(scaled, good, out), InputError);

@@ -44,7 +44,7 @@ FramePixels resolveFrame(const FrameView& v, const MapOptions& options, FrameInp
     f.source = v.source;
     const std::string where = f.where();
     const CameraIntrinsics& K = v.K;
-    if (const std::string problem = K.problem(); !problem.empty())
+    if (const std::string problem = K.invalidReason(); !problem.empty())
         throw InputError(fmt::format("{}: invalid camera intrinsics: {}", where, problem));
     if (K.width > 32767 || size_t(K.width) * size_t(K.height) >= (size_t(1) << 25))
         throw InputError(fmt::format("{}: a {}x{} image is too large (at most 32767 columns and 2^25 pixels)", where,

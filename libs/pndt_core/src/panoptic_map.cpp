@@ -200,7 +200,7 @@ FrameStats PanopticMap::integrate(const FrameView& view, const Pose& T_world_cam
     const auto caller_waiting = pool ? pool->callerWaiting() : std::chrono::nanoseconds(0);
     const FramePixels frame = resolveFrame(view, options_, scratch_->input);
     validateClasses(frame);
-    if (const std::string problem = poseProblem(T_world_cam); !problem.empty())
+    if (const std::string problem = poseInvalidReason(T_world_cam); !problem.empty())
         throw InputError(fmt::format("{}: {}", frame.where(), problem));
 
     FrameStats st;

@@ -28,12 +28,12 @@ double boxEntry(const Eigen::Vector3d& lo, double size, const Eigen::Vector3d& o
 void PanopticMap::render(const Pose& T_world_cam, const CameraIntrinsics& K, RenderedView& out) const
 {
     // As integrate() checks them: a focal length of 0 walked endless rays.
-    if (const std::string problem = K.problem(); !problem.empty())
+    if (const std::string problem = K.invalidReason(); !problem.empty())
         throw InputError("render: invalid camera intrinsics: " + problem);
     if (size_t(K.width) * size_t(K.height) >= (size_t(1) << 25))
         throw InputError("render: a " + std::to_string(K.width) + "x" + std::to_string(K.height) +
                          " image is too large (at most 2^25 pixels)");
-    if (const std::string problem = poseProblem(T_world_cam); !problem.empty()) throw InputError("render: " + problem);
+    if (const std::string problem = poseInvalidReason(T_world_cam); !problem.empty()) throw InputError("render: " + problem);
     ensurePropagated();
     out.depth.resize(K.width, K.height, 0.f);
     out.semantic.resize(K.width, K.height, 0);

@@ -31,7 +31,7 @@ CameraIntrinsics rangeIntrinsics(const mrpt::obs::CObservation3DRangeScan& obs, 
     K.fy = cam.fy();
     K.cx = cam.cx();
     K.cy = cam.cy();
-    if (const std::string problem = K.problem(); !problem.empty())
+    if (const std::string problem = K.invalidReason(); !problem.empty())
         throw InputError(fmt::format("{}: invalid depth camera intrinsics: {}", who, problem));
     if (int(cam.ncols) != W || int(cam.nrows) != H)
         throw InputError(fmt::format("{}: range image is {}x{} but its camera model is {}x{}", who, W, H, cam.ncols,

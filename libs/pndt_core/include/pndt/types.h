@@ -53,11 +53,11 @@ struct CameraIntrinsics
     int height = 0;
     double fx = 0, fy = 0, cx = 0, cy = 0;
 
-    bool valid() const { return problem().empty(); }
+    bool valid() const { return invalidReason().empty(); }
     /// Empty if the intrinsics describe a camera, else what is wrong, naming the field: a
     /// positive size, finite values, positive focal lengths, and no pixel's ray more than
     /// 89.4 degrees off the optical axis (a focal length of 1e-12 made rays of 10^14 m).
-    std::string problem() const
+    std::string invalidReason() const
     {
         const auto num = [](double v) { return std::to_string(v); };
         if (width <= 0 || height <= 0)
@@ -116,9 +116,9 @@ using Pose = Eigen::Isometry3d;
 
 /// Empty if T is a rigid motion (finite, its rotation orthonormal with determinant 1 within
 /// 1e-3), else what is wrong: an unnormalised quaternion read from a file scales the scene.
-inline std::string poseProblem(const Pose& T)
+inline std::string poseInvalidReason(const Pose& T)
 {
-    if (!T.matrix().allFinite()) return "the camera pose is not finite";
+    if (!T.matrix().array().isFinite().all()) return "the camera pose is not finite";
     const Eigen::Matrix3d R = T.linear();
     const double off = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
     const double det = R.determinant();
