@@ -227,6 +227,9 @@ int runLive(int argc, char** argv)
             throw std::runtime_error("--mrpt-config is for --capture mrpt");
         if (stamps.empty()) stamps = use_mrpt ? "host" : "device";
         settings.short_term.out_dir = out_dir;
+        if (!record.empty())  // two writers on one file lost the recording (exit 0)
+            if (const std::string problem = ownOutputProblem(settings.short_term, record); !problem.empty())
+                throw std::runtime_error("--record: " + problem);
         const auto factory = mapFactory(cfg);
         const auto prototype = factory();
 

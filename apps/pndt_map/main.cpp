@@ -64,6 +64,17 @@ Pose lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target)
     return T;
 }
 
+/// The summary's list of what this run wrote, as the settings named it.
+std::string outputsLine(const ShortTermOptions& o, const ShortTermMaps& maps)
+{
+    const std::string d = o.out_dir + "/";
+    std::string line = fmt::format("{0}index.json, {0}{1}_*.pndt.gz", d, o.prefix);
+    if (o.write_ply) line += fmt::format(", {}{}_*.ply", d, o.prefix);
+    if (const MapRawlogWriter* r = maps.rawlog())
+        line += ", " + (r->segmented() ? fmt::format("{}maps-NNNN.rawlog", d) : r->path());
+    return line + fmt::format(", {0}instances.json, {0}view_last_*.png, {0}view_overview_*.png, {0}floor_plan.png", d);
+}
+
 size_t peakRssBytes()
 {
     std::ifstream f("/proc/self/status");
@@ -161,6 +172,9 @@ int main(int argc, char** argv)
         rejectUnknownSections(cfg, {"pndt-map", "pndt-live", "MAP"}, {"MAP_"});  // [pndt-live]: pndt-live's own
         MapperSettings settings = MapperSettings::load(cfg);
         settings.short_term.out_dir = out_dir;
+        for (const auto& in : inputs)  // before anything is written: the run would truncate it
+            if (const std::string problem = ownOutputProblem(settings.short_term, in); !problem.empty())
+                throw std::runtime_error(problem);
         const auto factory = mapFactory(cfg);
         const auto prototype = factory();
 
@@ -371,9 +385,13 @@ int main(int argc, char** argv)
                            stream->stopReason());
                 return kExitTruncated;
             }
-            throw std::runtime_error(fmt::format("{}: no frame could be mapped ({} range scans, {} without a pose "
-                                                 "within {} s)",
-                                                 input, scans, no_pose, settings.pose_max_gap));
+            throw std::runtime_error(fmt::format(
+                "{}: no frame could be mapped ({} range scans, {} without a pose within {} s{}); the output folder "
+                "holds no map of this run",
+                input, scans, no_pose, settings.pose_max_gap,
+                other_sensor > 0 ? fmt::format(", {} of sensors other than rgbd_label '{}'", other_sensor,
+                                               settings.rgbd_label)
+                                 : std::string()));
         }
         (void)track;
         fs::create_directories(out_dir);
@@ -419,9 +437,7 @@ int main(int argc, char** argv)
                    st.seconds_projection, st.seconds_occupancy, st.seconds_matching, st.seconds_histograms);
         fmt::print("throughput         : {:.1f} frames/s overall ({:.2f} s), map updates {:.1f} frames/s\n",
                    mapped / wall, wall, st.secondsTotal() > 0 ? mapped / st.secondsTotal() : 0.0);
-        fmt::print("outputs            : {0}/map_*.pndt.gz, {0}/map_*.ply, {0}/instances.json, {0}/view_last_*.png, "
-                   "{0}/view_overview_*.png\n",
-                   out_dir);
+        fmt::print("outputs            : {}\n", outputsLine(settings.short_term, maps));
         if (view && !showInteractive(*final_map))
             fmt::print(stderr, "pndt-map: --view needs a display (DISPLAY is not set); use --screenshot\n");
         if (stream && stream->truncated())

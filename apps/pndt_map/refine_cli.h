@@ -25,18 +25,19 @@ struct RefineCli
                      "writes refined_poses.tum");
         app.add_option("--refine-option", options, "refinement option key=value (repeatable; implies --refine)");
     }
-    /// The refinement asked for on the command line or in [pndt-map] (refine, refine_options;
-    /// command-line options are applied after the file's), if any. Throws
-    /// std::invalid_argument on a bad option.
+    /// The refinement asked for on the command line (--refine, or --refine-option) or in
+    /// [pndt-map] (refine = true; refine_options alone only tune it: a config that keeps tuned
+    /// options beside refine = false does not refine), if any. Command-line options are
+    /// applied after the file's. Every option is checked, used or not: throws
+    /// std::invalid_argument on a bad one.
     std::optional<FramePoseRefinement> make(const MapperSettings& settings) const
     {
-        std::optional<FramePoseRefinement> r;
-        if (!enabled && options.empty() && !settings.refine && settings.refine_options.empty()) return r;
         refine::RefineOptions ro;
         ro.enabled = true;
         for (const auto& kv : settings.refine_options) setRefineOption(ro, kv);
         for (const auto& kv : options) setRefineOption(ro, kv);
-        r.emplace(ro);
+        std::optional<FramePoseRefinement> r;
+        if (enabled || !options.empty() || settings.refine) r.emplace(ro);
         return r;
     }
 };

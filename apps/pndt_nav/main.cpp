@@ -10,6 +10,7 @@
 #include <mrpt/random/RandomGenerators.h>
 #include <pndt/app/cli_numbers.h>
 #include <pndt/app/map_config.h>
+#include <pndt/io/atomic_file.h>
 #include <pndt/mrpt/map_files.h>
 #include <pndt/nav/grid_image.h>
 #include <pndt/nav/map_source.h>
@@ -149,7 +150,9 @@ nlohmann::json run(const Settings& s, LoadedMap& loaded)
         }
         if (s.simulate)
         {
-            if (!path.found) throw InputError("--simulate needs a path (give --start x,y and a reachable goal)");
+            if (!path.found)
+                throw InputError(s.start.empty() ? "--simulate needs --start x,y[,yaw] (where the robot starts)"
+                                                 : "--simulate needs a path to the goal: " + path.reason);
             mrpt::config::CConfigFileMemory cfg = navigatorConfig(s);
             // The differential-drive PTGs check collisions with a polygon: an octagon around the disc.
             std::string xs, ys;
@@ -206,7 +209,8 @@ int main(int argc, char** argv)
     app.add_option("-q,--query", s.query, "e.g. \"table with most chairs\", \"a table with 8 chairs\", \"chair nearest to 1 2\"");
     app.add_option("--start", s.start, "robot start x,y[,yaw] (m, rad): reachability, path and simulation start")
         ->delimiter(',')
-        ->expected(2, 3);
+        ->expected(2, 3)
+        ->type_name("X,Y[,YAW]");
     app.add_option("--robot-radius", s.robot_radius, "m")->check(app::kPositive);
     app.add_option("--resolution", s.resolution, "grid cell size in m (0 = the map's voxel size)")->check(app::kNonNegative);
     app.add_option("--band", s.band, "obstacle heights above the floor: min,max (m)")->delimiter(',')->expected(2);
@@ -237,7 +241,7 @@ int main(int argc, char** argv)
         auto answer = [&] {
             const nlohmann::json result = run(s, loaded);
             const fs::path json_path = fs::path(s.out) / "result.json";
-            std::ofstream(json_path) << result.dump(2) << "\n";
+            io::writeFileAtomically(json_path.string(), result.dump(2) + "\n");  // never half a file; errors named
             if (!s.quiet) std::cout << "wrote " << json_path.string() << ", grid.png, grid.gridmap.gz in " << s.out << "\n";
         };
         answer();

@@ -415,6 +415,64 @@ TEST(PndtMapCli, RefinementFromTheConfigAsFromTheCommandLine)
     r = run(mapExe() + input + ini.string() + " -s 'pndt-map.refine_options=max_points=600 maxpoints=3'");
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.out.find("key 'refine_options': 'maxpoints=3'"), std::string::npos) << r.out;
+
+    // Tuned options kept beside refine = false: no refinement (they turned it on, 15-27 ms a frame).
+    const fs::path off = tempDir("refine_off");
+    r = run(mapExe() + input + off.string() + " -s pndt-map.refine=false -s 'pndt-map.refine_options=max_points=600'");
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_EQ(r.out.find("pose refinement"), std::string::npos) << r.out;
+    EXPECT_FALSE(fs::exists(off / "refined_poses.tum"));
+    fs::remove_all(off);
+}
+
+TEST(PndtMapCli, AnInputThatIsTheRunsOwnMapsRawlogIsRefusedUntouched)
+{
+    // Replaying <out>/maps.rawlog into <out> truncated it before it was read (38 MB -> 20 bytes,
+    // then "the rawlog holds no observations").
+    const fs::path out = tempDir("own_output");
+    RunResult r = run(mapExe() + roomRawlog().string() + " --period 2 --rawlog-inputs -o " + out.string());
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto size = fs::file_size(out / "maps.rawlog");
+    for (const std::string& args : {std::string(" -o ") + out.string(), " --keep-maps 2 -o " + out.string()})
+    {
+        r = run(mapExe() + (out / "maps.rawlog").string() + " --period 2" + args);
+        EXPECT_EQ(r.code, 1) << r.out;
+        EXPECT_NE(r.out.find((out / "maps.rawlog").string() + " is this run's own maps rawlog"), std::string::npos)
+            << r.out;
+        EXPECT_EQ(fs::file_size(out / "maps.rawlog"), size);
+    }
+    // Into another folder it replays.
+    r = run(mapExe() + (out / "maps.rawlog").string() + " --period 2 -o " + (out / "again").string());
+    EXPECT_EQ(r.code, 0) << r.out;
+    fs::remove_all(out);
+}
+
+TEST(PndtMapCli, ARunThatMapsNothingLeavesTheEarlierRunsFilesAsTheyWere)
+{
+    // A failed or empty run truncated the earlier run's maps.rawlog (to 20 bytes) and kept its
+    // index.json and maps: the folder then contradicted itself.
+    const fs::path out = tempDir("nothing_mapped");
+    RunResult r = run(mapExe() + roomRawlog().string() + " --period 2 -o " + out.string());
+    ASSERT_EQ(r.code, 0) << r.out;
+    auto slurp = [](const fs::path& p) {
+        std::ifstream f(p, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(f), {});
+    };
+    const std::string rawlog = slurp(out / "maps.rawlog"), index = slurp(out / "index.json");
+    // Every frame from another sensor: nothing mapped.
+    r = run(mapExe() + roomRawlog().string() + " --period 2 -s pndt-map.rgbd_label=FOO -o " + out.string());
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.out.find("no frame could be mapped (0 range scans, 0 without a pose within 0.1 s, 40 of sensors other "
+                         "than rgbd_label 'FOO'); the output folder holds no map of this run"),
+              std::string::npos)
+        << r.out;
+    EXPECT_NE(r.out.find("note: " + out.string() + " holds 3 map file(s) (map_0000.pndt.gz .. map_0002.pndt.gz) and "
+                         "1 maps rawlog(s) (maps.rawlog) of an earlier run"),
+              std::string::npos)
+        << r.out;
+    EXPECT_EQ(slurp(out / "maps.rawlog"), rawlog);
+    EXPECT_EQ(slurp(out / "index.json"), index);
+    fs::remove_all(out);
 }
 
 TEST(PndtMapCli, PaperPresetBuildsAMapWithThePapersRulesAndLayersWithHypersim)

@@ -105,11 +105,49 @@ TEST(ShortTermMaps, MapFilesOfAnEarlierRunInTheOutputFolderAreSaid)
     for (const char* f : {"map_0002.pndt.gz", "map_0000.pndt.gz", "map_0000.ply", "index.json", "notes.txt"})
         std::ofstream(fs::path(o.out_dir) / f) << "x";
     const std::string note = earlierRunNote(o);
-    EXPECT_NE(note.find(o.out_dir + " holds 2 map file(s) of an earlier run (map_0000.pndt.gz .. map_0002.pndt.gz)"),
+    EXPECT_NE(note.find(o.out_dir + " holds 2 map file(s) (map_0000.pndt.gz .. map_0002.pndt.gz) of an earlier run"),
               std::string::npos)
         << note;
+    // Its maps rawlogs too (a run cut into segments leaves an earlier single file beside them).
+    for (const char* f : {"maps.rawlog", "maps-0001.rawlog", "maps-0000.rawlog", "maps-x.rawlog"})
+        std::ofstream(fs::path(o.out_dir) / f) << "x";
+    const std::string both = earlierRunNote(o);
+    EXPECT_NE(both.find(" holds 2 map file(s) (map_0000.pndt.gz .. map_0002.pndt.gz) and 3 maps rawlog(s) (maps.rawlog "
+                        ".. maps-0001.rawlog) of an earlier run"),
+              std::string::npos)
+        << both;
     o.prefix = "room";
+    EXPECT_NE(earlierRunNote(o).find(" holds 3 maps rawlog(s)"), std::string::npos) << earlierRunNote(o);
+    fs::remove(fs::path(o.out_dir) / "maps.rawlog");
+    fs::remove(fs::path(o.out_dir) / "maps-0000.rawlog");
+    fs::remove(fs::path(o.out_dir) / "maps-0001.rawlog");
     EXPECT_EQ(earlierRunNote(o), "");
+    fs::remove_all(o.out_dir);
+}
+
+TEST(ShortTermMaps, AnInputOrRecordingThatIsTheRunsOwnMapsRawlogIsRefused)
+{
+    // Replaying <out>/maps.rawlog into <out> truncated the input before it was read (38 MB
+    // -> 20 bytes, "the rawlog holds no observations"); a recording named so had two writers.
+    ShortTermOptions o;
+    o.out_dir = tempDir().string();
+    o.write_rawlog = true;
+    fs::create_directories(o.out_dir + "/sub");
+    const std::string dir = o.out_dir;
+    for (const std::string& own : {dir + "/maps.rawlog", dir + "/maps-0003.rawlog", dir + "/sub/../maps.rawlog",
+                                   dir + "/./maps-12345.rawlog"})
+        EXPECT_NE(ownOutputProblem(o, own).find("is this run's own maps rawlog"), std::string::npos) << own;
+    for (const std::string& other : {dir + "/sub/maps.rawlog", dir + "/rec.rawlog", dir + "/maps-12.rawlog",
+                                     dir + "/maps.rawlog.bak", dir + "/maps-0003.rawlog.gz"})
+        EXPECT_EQ(ownOutputProblem(o, other), "") << other;
+    // Through a link to the folder.
+    const std::string link = dir + "-link";
+    fs::remove(link);
+    fs::create_directory_symlink(dir, link);
+    EXPECT_NE(ownOutputProblem(o, link + "/maps.rawlog"), "");
+    fs::remove(link);
+    o.write_rawlog = false;  // --no-maps-rawlog: nothing of that name is written
+    EXPECT_EQ(ownOutputProblem(o, dir + "/maps.rawlog"), "");
     fs::remove_all(o.out_dir);
 }
 

@@ -7,6 +7,7 @@
 #include <mrpt/serialization/CArchive.h>
 #include <pndt/instance_rules.h>
 #include <pndt/mrpt/map_files.h>
+#include <zlib.h>
 
 #include <cerrno>
 #include <cmath>
@@ -375,6 +376,49 @@ TEST(PluginSerialization, OldVersionsLoadWithTheRulesTheyWereBuiltWith)
     EXPECT_EQ(o.max_range_along, RangeKind::Z);  // version 5's option: z before it
 }
 
+/// The map's payload inside MRPT's object framing: [0x80 | name length][class name][version]
+/// payload [0x88].
+std::vector<uint8_t> payloadOf(const std::vector<uint8_t>& object, uint8_t& version)
+{
+    const size_t name = object.at(0) & 0x7F;
+    EXPECT_EQ(std::string(object.begin() + 1, object.begin() + 1 + long(name)), "pndt::PanopticNDTMap");
+    EXPECT_EQ(object.back(), 0x88);
+    version = object.at(1 + name);
+    return {object.begin() + 2 + long(name), object.end() - 1};
+}
+
+TEST(PluginSerialization, Version6EndsWithTheCrcOfItsPayloadAndVersion5StillReads)
+{
+    const auto m = labelledMap();
+    uint8_t version = 0;
+    const std::vector<uint8_t> v6 = payloadOf(serialize(*m), version);
+    EXPECT_EQ(version, 6);
+    // The last four bytes: zlib's CRC-32 of everything before them (little-endian u32).
+    const std::vector<uint8_t> v5(v6.begin(), v6.end() - 4);
+    const uint32_t crc = uint32_t(crc32(crc32(0L, Z_NULL, 0), v5.data(), uInt(v5.size())));
+    uint32_t stored = 0;
+    std::memcpy(&stored, v6.data() + v5.size(), 4);
+    EXPECT_EQ(stored, crc);
+    VersionReader back6, back5;
+    readPayload(back6, v6, 6);
+    expectSameState(m->core(), back6.core());
+    readPayload(back5, v5, 5);  // maps written before the checksum load as they did
+    expectSameState(m->core(), back5.core());
+    // One bit of an occupancy changed: every check but the checksum passes.
+    std::vector<uint8_t> bad = v6;
+    bad[v5.size() / 2] ^= 1;
+    VersionReader damaged;
+    try
+    {
+        readPayload(damaged, bad, 6);
+        ADD_FAILURE() << "a payload with a flipped bit loaded";
+    }
+    catch (const std::runtime_error& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("does not match its checksum"), std::string::npos) << e.what();
+    }
+}
+
 TEST(PluginSerialization, ReadsVersion0Archives)
 {
     const auto m = labelledMap(versionOneRules());
@@ -633,6 +677,48 @@ TEST(PluginFiles, ArchiveFileRoundTripAndForeignFiles)
                 << e.what();
         }
     }
+    fs::remove_all(dir);
+}
+
+TEST(PluginFiles, AMapDamagedAndRecompressedIsRefusedByItsOwnChecksum)
+{
+    // gzip's CRC guards the compressed file only: a payload damaged and then recompressed
+    // loaded as a map with voxels, shapes or labels elsewhere. One bit at a time, all through it.
+    const fs::path dir = tempDir();
+    const auto m = labelledMap();
+    const std::vector<uint8_t> good = serialize(*m);
+    const std::string path = (dir / "damaged.pndt.gz").string();
+    auto writeGz = [&](const std::vector<uint8_t>& bytes) {
+        gzFile gz = gzopen(path.c_str(), "wb");
+        ASSERT_TRUE(gz);
+        ASSERT_EQ(gzwrite(gz, bytes.data(), unsigned(bytes.size())), int(bytes.size()));
+        ASSERT_EQ(gzclose(gz), Z_OK);
+    };
+    writeGz(good);
+    expectSameState(m->core(), loadMapArchive(path)->core());
+    size_t tried = 0, loaded = 0, by_checksum = 0;
+    const size_t step = good.size() / 150 + 1;  // 150 places spread over the payload
+    for (size_t i = 22; i + 1 < good.size(); i += step)  // after MRPT's class name
+    {
+        std::vector<uint8_t> bad = good;
+        bad[i] ^= uint8_t(1u << (i % 8));
+        writeGz(bad);
+        ++tried;
+        try
+        {
+            loadMapArchive(path);
+            ++loaded;
+        }
+        catch (const std::runtime_error& e)
+        {
+            const std::string what = e.what();
+            if (what.find("does not match its checksum") == std::string::npos) continue;
+            ++by_checksum;
+            EXPECT_NE(what.find(path), std::string::npos) << what;
+        }
+    }
+    EXPECT_EQ(loaded, 0u) << "of " << tried << " maps with one bit flipped";
+    EXPECT_GT(by_checksum, tried / 2) << "most flips pass every other check";
     fs::remove_all(dir);
 }
 

@@ -160,12 +160,44 @@ TEST(PndtNavCli, BadInputIsAClearMessage)
                           Case{map + " --query 'table with most chairs' --robot-radius 2.5", "no free, reachable pose"},
                           Case{map + " --query 'the unicorn with the most chairs'", "'unicorn' is not a class"},
                           Case{map + " --query 'table with most chairs' --start nan,nan", "take finite numbers"},
-                          Case{map + " --query 'table with most chairs' --resolution nan", "--resolution: nan is not a number >= 0"}})
+                          Case{map + " --query 'table with most chairs' --resolution nan", "--resolution: nan is not a number >= 0"},
+                          // It said "give --start x,y" although a start was given.
+                          Case{map + " --query 'table with most chairs' --start 100,100 --simulate",
+                               "--simulate needs a path to the goal: the start (100.00, 100.00) is outside the grid"},
+                          Case{map + " --query 'table with most chairs' --simulate", "--simulate needs --start x,y[,yaw]"}})
     {
         const RunResult r = run(c.args + " --out " + (out / "o").string());
         // Option values the command line's own checks refuse exit with CLI11's code (105).
-        EXPECT_EQ(r.code, c.message.rfind("--", 0) == 0 ? 105 : 1) << c.args << "\n" << r.out;
+        EXPECT_EQ(r.code, c.message.rfind("--resolution", 0) == 0 ? 105 : 1) << c.args << "\n" << r.out;
         EXPECT_NE(r.out.find(c.message), std::string::npos) << c.args << "\n" << r.out;
     }
+    fs::remove_all(out);
+}
+
+TEST(PndtNavCli, AnAnswerThatCannotBeWrittenIsAnErrorNamingTheFile)
+{
+    // result.json was written with an unchecked ofstream: a full disk or a folder in its place
+    // printed "wrote .../result.json" and exit 0 with nothing written, and a consumer following
+    // --watch read half files (grid.png too).
+    const fs::path out = tempDir("unwritable");
+    const std::string map = navtest::savedMapPath();
+    fs::create_directories(out / "a" / "result.json");  // a folder where the file goes
+    RunResult r = run(map + " --query 'table with most chairs' --out " + (out / "a").string());
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.out.find("cannot write '" + (out / "a" / "result.json").string() + "'"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("wrote "), std::string::npos) << r.out;
+    if (fs::exists("/dev/full"))
+    {
+        fs::create_directories(out / "b");
+        fs::create_symlink("/dev/full", out / "b" / "grid.png");  // replaced by the rename, never written through
+        r = run(map + " --query 'table with most chairs' --out " + (out / "b").string());
+        EXPECT_EQ(r.code, 0) << r.out;
+        EXPECT_FALSE(fs::is_symlink(out / "b" / "grid.png"));
+        EXPECT_GT(fs::file_size(out / "b" / "grid.png"), 1000u);
+        EXPECT_NO_THROW(readJson(out / "b" / "result.json"));
+    }
+    // Nothing under a temporary name is left behind.
+    for (const auto& e : fs::recursive_directory_iterator(out))
+        EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
     fs::remove_all(out);
 }

@@ -133,4 +133,22 @@ std::vector<std::string> numberedRawlogsOf(const std::string& path)
     return found;
 }
 
+bool sameRawlogFamily(const std::string& a, const std::string& b)
+{
+    namespace fs = std::filesystem;
+    // Name without a "-NNNN" number before the extension.
+    const auto family = [](const std::string& path) {
+        std::error_code ec;
+        fs::path p = fs::weakly_canonical(fs::absolute(path), ec);
+        if (ec) p = fs::absolute(path).lexically_normal();
+        std::string stem = p.stem().string();
+        const size_t dash = stem.rfind('-');
+        if (dash != std::string::npos && stem.size() - dash - 1 >= 4 &&
+            std::all_of(stem.begin() + long(dash) + 1, stem.end(), [](char c) { return c >= '0' && c <= '9'; }))
+            stem.resize(dash);
+        return (p.parent_path() / (stem + p.extension().string())).string();
+    };
+    return family(a) == family(b);
+}
+
 }  // namespace pndt::app

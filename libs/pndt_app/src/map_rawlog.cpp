@@ -4,7 +4,11 @@
 #include <pndt/io/atomic_file.h>
 #include <pndt/mrpt/CObservationPanopticMap.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <chrono>
 #include <filesystem>
 
@@ -15,7 +19,13 @@ MapRawlogWriter::MapRawlogWriter(MapRawlogOptions options)
 {
     if (options_.keep_maps > 0 && options_.segment_maps == 0)
         throw std::invalid_argument("maps rawlog: keep_maps needs segment_maps (one file cannot drop its oldest maps)");
-    openFile();  // the first file now, so a folder we cannot write to is reported at once
+    // The first file is created with the first object (write()): a run that writes nothing
+    // (stopped early, no frame mapped) leaves an earlier run's file as it was. A folder we
+    // cannot write to is still reported at once.
+    const std::filesystem::path folder = std::filesystem::path(options_.path).parent_path();
+    const std::string dir = folder.empty() ? "." : folder.string();
+    if (::access(dir.c_str(), W_OK | X_OK) != 0)
+        throw io::WriteError(fmt::format("cannot write {}: {}", options_.path, std::strerror(errno)));
 }
 
 std::string MapRawlogWriter::segmentPath(size_t k) const
@@ -123,7 +133,7 @@ void MapRawlogWriter::enqueue(mrpt::serialization::CSerializable::Ptr obj, bool 
 
 void MapRawlogWriter::write(const Item& item)
 {
-    if (!file_) openFile();  // the next segment, opened with its first object: no empty file at the end
+    if (!file_) openFile();  // the file (the next segment) opened with its first object: no empty file
     file_->write(*item.first);
     if (item.second)
     {
@@ -195,7 +205,7 @@ double MapRawlogWriter::secondsWriting() const { return writer_.secondsWriting()
 std::string rawlogFilesNote(const MapRawlogWriter& w)
 {
     const size_t files = w.filesWritten(), deleted = w.filesDeleted();
-    if (!w.segmented()) return {};
+    if (!w.segmented() || files == 0) return {};
     namespace fs = std::filesystem;
     const auto name = [&](size_t k) { return fs::path(w.segmentPath(k)).filename().string(); };
     std::string note = files - deleted == 1 ? " in " + name(deleted)

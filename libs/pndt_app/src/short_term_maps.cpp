@@ -1,6 +1,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 #include <pndt/app/map_rawlog.h>
+#include <pndt/app/gz_rawlog_file.h>
 #include <pndt/app/short_term_maps.h>
 #include <pndt/mrpt/map_files.h>
 #include <tsl/robin_map.h>
@@ -27,7 +28,7 @@ ShortTermMaps::ShortTermMaps(Factory make_map, ShortTermOptions options)
     if (options_.write_files && options_.write_rawlog)
     {
         MapRawlogOptions o;
-        o.path = (std::filesystem::path(options_.out_dir) / "maps.rawlog").string();
+        o.path = mapsRawlogPath(options_);
         o.sensor_label = options_.rawlog_label;
         o.keep_maps = options_.keep_maps;
         o.segment_maps = options_.rawlog_segment_maps > 0 ? options_.rawlog_segment_maps : options_.keep_maps;
@@ -132,12 +133,35 @@ std::string earlierRunNote(const ShortTermOptions& o)
             name.compare(name.size() - tail.size(), tail.size(), tail) == 0)
             earlier.push_back(name);
     }
-    if (earlier.empty()) return {};
+    // The maps' rawlogs too: a run with other rawlog options leaves the earlier ones beside it.
+    std::vector<std::string> rawlogs = numberedRawlogsOf(mapsRawlogPath(o));
+    if (std::filesystem::exists(mapsRawlogPath(o), ec)) rawlogs.insert(rawlogs.begin(), mapsRawlogPath(o));
+    if (earlier.empty() && rawlogs.empty()) return {};
     std::sort(earlier.begin(), earlier.end());
-    return fmt::format("{} holds {} map file(s) of an earlier run ({}{}): this run's replace them by name, the rest "
-                       "stay; index.json will list this run's only (a new folder keeps runs apart)",
-                       o.out_dir, earlier.size(), earlier.front(),
-                       earlier.size() > 1 ? " .. " + earlier.back() : std::string());
+    const auto files = [](const std::vector<std::string>& names, const char* what) {
+        if (names.empty()) return std::string();
+        const auto name = [](const std::string& f) { return std::filesystem::path(f).filename().string(); };
+        return fmt::format("{} {} ({}{})", names.size(), what, name(names.front()),
+                           names.size() > 1 ? " .. " + name(names.back()) : std::string());
+    };
+    const std::string maps = files(earlier, "map file(s)"), logs = files(rawlogs, "maps rawlog(s)");
+    return fmt::format("{} holds {}{}{} of an earlier run: this run's files replace them by name once it writes a "
+                       "map, the rest stay; index.json will then list this run's maps only (a new folder keeps runs "
+                       "apart)",
+                       o.out_dir, maps, !maps.empty() && !logs.empty() ? " and " : "", logs);
+}
+
+std::string mapsRawlogPath(const ShortTermOptions& o)
+{
+    return (std::filesystem::path(o.out_dir) / "maps.rawlog").string();
+}
+
+std::string ownOutputProblem(const ShortTermOptions& o, const std::string& path)
+{
+    if (!o.write_files || !o.write_rawlog || !sameRawlogFamily(path, mapsRawlogPath(o))) return {};
+    return fmt::format("{} is this run's own maps rawlog (or one of its segments): the run would overwrite it; "
+                       "give a copy, another name, or another output folder (-o)",
+                       path);
 }
 
 std::string ShortTermMaps::plyFile(size_t map) const { return fmt::format("{}_{:04d}.ply", options_.prefix, map); }

@@ -1,7 +1,10 @@
 // Versioned MRPT serialisation of PanopticNDTMap. Every voxel field is written
 // raw, so a round trip is bit-exact.
 //
-// Version 5 (written): version 4 with the map option max_range_along (u8: 0 z,
+// Version 6 (written): version 5, then the CRC-32 (u32, zlib's) of every byte of
+// it from the magic on: a payload damaged and then recompressed (or stored plain)
+// passes gzip's own check, and must not load as a map with voxels elsewhere.
+// Version 5 (read): version 4 with the map option max_range_along (u8: 0 z,
 // 1 ray length) right after fragment_joint_factor.
 // Version 4 (read): version 3 with the map options occupied_threshold (f32),
 // reset_freed_voxels (bool), miss_accumulation (u8), instance_class_voxels (u8),
@@ -37,6 +40,8 @@
 #include <mrpt/serialization/CArchive.h>
 #include <pndt/instance_rules.h>
 #include <pndt/mrpt/PanopticNDTMap.h>
+
+#include "crc_archive.h"
 
 #include <cmath>
 #include <algorithm>
@@ -219,10 +224,11 @@ uint64_t readCount(CArchive& a, const char* what, uint64_t max)
 }
 }  // namespace
 
-uint8_t PanopticNDTMap::serializeGetVersion() const { return 5; }
+uint8_t PanopticNDTMap::serializeGetVersion() const { return 6; }
 
-void PanopticNDTMap::serializeTo(CArchive& out) const
+void PanopticNDTMap::serializeTo(CArchive& raw_out) const
 {
+    CrcArchive out(raw_out);  // every byte below counts into the checksum written last
     out << kMagic;
     writeOptions(out, map_.options());
     out << insertionOptions.label_pairing_tolerance << insertionOptions.semantic_suffix
@@ -362,10 +368,15 @@ void PanopticNDTMap::serializeTo(CArchive& out) const
     out << uint64_t(fr_id.size());
     writeArray(out, fr_id);
     writeArray(out, fr_n);
+
+    // Version 6: the checksum of all of the above.
+    raw_out << out.crc();
 }
 
-void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
+void PanopticNDTMap::serializeFrom(CArchive& raw_in, uint8_t version)
 {
+    CrcArchive crc_in(raw_in);  // version 6 on: the bytes read are checked against the stored CRC
+    CArchive& in = version >= 6 ? static_cast<CArchive&>(crc_in) : raw_in;
     switch (version)
     {
         case 0:
@@ -374,6 +385,7 @@ void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
         case 3:
         case 4:
         case 5:
+        case 6:
         {
             const char* stage = "header";
             try
@@ -560,6 +572,19 @@ void PanopticNDTMap::serializeFrom(CArchive& in, uint8_t version)
                     readArray(in, fr_id, nf);
                     readArray(in, fr_n, nf);
                     for (size_t i = 0; i < nf; ++i) instance_frames.emplace_back(fr_id[i], fr_n[i]);
+                }
+
+                if (version >= 6)
+                {
+                    stage = "checksum";
+                    const uint32_t computed = crc_in.crc();
+                    uint32_t stored = 0;
+                    raw_in >> stored;
+                    if (stored != computed)
+                        throw std::runtime_error(fmt::format(
+                            "the map data does not match its checksum (CRC-32 {:08x} stored, {:08x} of the data "
+                            "read): damaged after it was written",
+                            stored, computed));
                 }
 
                 stage = "consistency check";

@@ -3,6 +3,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <pndt/class_set.h>
+#include <pndt/io/atomic_file.h>
 #include <pndt/nav/grid_image.h>
 
 #include <cmath>
@@ -57,7 +58,11 @@ void writeGridPicture(const GridPicture& p, const std::string& png_path)
         cv::circle(img, px(at), int(0.3 / res * s), cv::Scalar(0, 0, 255), 2, cv::LINE_AA);
         cv::arrowedLine(img, px(at), px(tip), cv::Scalar(0, 0, 255), 2, cv::LINE_AA);
     }
-    if (!cv::imwrite(png_path, img)) throw std::runtime_error(fmt::format("{}: cannot write the PNG", png_path));
+    // Encoded first, then written whole under a temporary name and renamed: a consumer that
+    // follows the answers (--watch) never reads half a picture; a failed write is an error.
+    std::vector<uint8_t> png;
+    if (!cv::imencode(".png", img, png)) throw std::runtime_error(fmt::format("{}: cannot encode the PNG", png_path));
+    io::writeFileAtomically(png_path, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
 }
 
 }  // namespace pndt::nav

@@ -52,5 +52,10 @@ class GzRawlogFile
 std::string numberedRawlogPath(const std::string& path, size_t k);
 /// The files numbered after `path` that exist (maps-0000.rawlog, maps-0001.rawlog, ...), sorted.
 std::vector<std::string> numberedRawlogsOf(const std::string& path);
+/// Whether `a` and `b` can name one file once numbered: the same folder (after following
+/// links and "..") and the same name, or one's name numbered after the other's
+/// (maps.rawlog, maps-0003.rawlog). An input or a recording must never be such a file of
+/// a run's own output, which is truncated when the run writes it.
+bool sameRawlogFamily(const std::string& a, const std::string& b);
 
 }  // namespace pndt::app

@@ -29,7 +29,7 @@ namespace pndt::app
 {
 struct MapRawlogOptions
 {
-    /// Written from scratch (truncated if it exists). With segment_maps, the files are
+    /// Written from scratch (truncated if it exists) once the first object is written. With segment_maps, the files are
     /// named after it with the segment's number: maps.rawlog -> maps-0000.rawlog, ...
     std::string path;
     std::string sensor_label = "PANOPTIC_MAP";
@@ -50,7 +50,8 @@ struct MapRawlogOptions
 class MapRawlogWriter
 {
    public:
-    /// Creates (truncates) the file. Throws io::WriteError naming it.
+    /// Checks that the file's folder is writable (io::WriteError naming the file if not);
+    /// the file is created (truncated) with the first object written.
     explicit MapRawlogWriter(MapRawlogOptions options);
     /// Writes what is queued and held, swallowing errors (call finish() to see them).
     ~MapRawlogWriter();
@@ -74,7 +75,7 @@ class MapRawlogWriter
     bool segmented() const { return options_.segment_maps > 0; }
     /// The file of segment k (path() itself without segments).
     std::string segmentPath(size_t k) const;
-    /// Files opened so far (1 without segments) and, of them, deleted (keep_maps).
+    /// Files opened so far (0 before the first object, then 1 without segments) and, of them, deleted (keep_maps).
     size_t filesWritten() const;
     size_t filesDeleted() const;
     uint64_t mapsWritten() const;

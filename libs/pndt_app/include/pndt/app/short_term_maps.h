@@ -132,8 +132,16 @@ class ShortTermMaps
 /// For the apps' summaries: "" or " lists the newest K; the N older deleted" (keep_maps).
 std::string keptMapsNote(const ShortTermMaps& maps);
 
-/// Before a run: "" or a note that `options.out_dir` already holds map files of an earlier
-/// run (a glob over map_*.pndt.gz would mix the runs; index.json lists only the new one's).
+/// Before a run: "" or a note that `options.out_dir` already holds map files or maps
+/// rawlogs of an earlier run (a glob over map_*.pndt.gz would mix the runs; index.json
+/// lists only the new one's, once this run writes a map).
 std::string earlierRunNote(const ShortTermOptions& options);
+
+/// Where the maps' rawlog goes: <out_dir>/maps.rawlog (or its numbered segments).
+std::string mapsRawlogPath(const ShortTermOptions& options);
+
+/// Before a run: "" or why `path` (an input rawlog, a recording) must not be used with these
+/// options: it is the run's own maps rawlog or one of its segments, which the run truncates.
+std::string ownOutputProblem(const ShortTermOptions& options, const std::string& path);
 
 }  // namespace pndt::app
