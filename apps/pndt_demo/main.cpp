@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <mrpt/config/CConfigFile.h>
+#include <pndt/app/map_config.h>
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <pndt/app/map_outputs.h>
 #include <pndt/mrpt/map_files.h>
@@ -25,7 +26,8 @@ int main(int argc, char** argv)
 {
     CLI::App app{"PanopticNDT demo: map a generated room and write the results"};
     std::string out_dir = "out/demo";
-    std::string config = PNDT_DEFAULT_CONFIG;
+    // Found as pndt-map finds it: $PNDT_CONFIG_DIR, the installed copy, else the source tree's.
+    std::string config = pndt::app::configDir(PNDT_CONFIG_DIR) + "/panoptic_ndt.ini";
     int frames = 36, width = 640, height = 480;
     unsigned seed = 1;
     std::string rawlog;

@@ -44,4 +44,8 @@ cmake --build "$WORK/build" > "$WORK/build.log" || { cat "$WORK/build.log" >&2; 
 NAV_HELP=$("$PREFIX/bin/pndt-nav" --help)
 case "$NAV_HELP" in *share/panopticndt/config/reactive2d.ini*) ;;
   *) echo "$NAV_HELP" >&2; echo "pndt-nav does not default to the installed reactive2d.ini" >&2; exit 1 ;; esac
+# pndt-demo too: it read the source tree's panoptic_ndt.ini, so a robot without the tree failed.
+DEMO_HELP=$("$PREFIX/bin/pndt-demo" --help)
+case "$DEMO_HELP" in *share/panopticndt/config/panoptic_ndt.ini*) ;;
+  *) echo "$DEMO_HELP" >&2; echo "pndt-demo does not default to the installed panoptic_ndt.ini" >&2; exit 1 ;; esac
 echo "installed into $PREFIX ($MODE), consumer built and run"

@@ -709,6 +709,32 @@ TEST_F(LiveCli, MrptBackendMapsTheVirtualCameraAndEqualsTheReplayOfItsRecording)
     expectReplayEqualsLive(mapped, "--period 1", 2);
 }
 
+TEST_F(LiveCli, MrptBackendWithPosesPacedByTheirStampsMapsItsLastFrameToo)
+{
+    // Host stamps lie a fraction of a millisecond after the device time of their frame, so
+    // each frame needs the pose after it. The run ended as soon as the mapper took the last
+    // frame off its queue and stopped the poses: that frame was always skipped (99 of 100).
+    camera("");
+    ASSERT_EQ(live("--pose-wait 5 --capture mrpt --max-frames 40 --period 1", "--connect-timeout 1", true), 0)
+        << out << err;
+    EXPECT_EQ(number(out, R"(frames captured\s+: (\d+))"), 40u) << out;
+    EXPECT_EQ(number(out, R"(frames mapped\s+: (\d+))"), 40u) << out << err;
+    EXPECT_EQ(err.find("in vain"), std::string::npos) << err;
+}
+
+TEST_F(LiveCli, ARecordingNamedAsTheRunsOwnMapsRawlogIsRefused)
+{
+    // --record OUT/maps.rawlog -o OUT: two writers on one file, exit 0, the recording lost.
+    camera("");
+    EXPECT_EQ(live("--max-frames 10 --record " + (dir / "live" / "maps.rawlog").string(), "--rate 0 --connect-timeout 1"),
+              1)
+        << out << err;
+    EXPECT_NE(err.find("--record: " + (dir / "live" / "maps.rawlog").string() + " is this run's own maps rawlog"),
+              std::string::npos)
+        << err;
+    EXPECT_FALSE(fs::exists(dir / "live" / "maps.rawlog"));
+}
+
 TEST_F(LiveCli, MrptBackendCameraUnpluggedWritesTheMapAndExitsWithCode4)
 {
     // MRPT's COpenNI2Generic::open sleeps 1 s after starting the streams: the first 30 frames

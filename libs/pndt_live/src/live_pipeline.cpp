@@ -57,6 +57,7 @@ struct LivePipeline::Queues
     std::condition_variable cv;
     std::deque<std::shared_ptr<Item>> to_segment, to_map;
     bool capture_done = false, seg_done = false;
+    bool map_done = false;  ///< the mapper has finished its last frame (not only taken it off the queue)
     std::unique_ptr<Recorder> recorder;
     std::exception_ptr map_error;
 };
@@ -243,10 +244,10 @@ void LivePipeline::mapItem(Item& it, std::vector<PairedFrame>& done, const std::
     {
         if (!pose_gap_reported_)
             fmt::print(stderr,
-                       "\npndt-live: no pose at or after t={:.3f} s within {} s (newest pose: {}, {} localiser "
+                       "\npndt-live: no pose at or after t={:.4f} s within {} s (newest pose: {}, {} localiser "
                        "connection(s)): frames are skipped and counted until poses come again\n",
                        it.t, o_.pose_wait,
-                       poses_.received() ? fmt::format("t={:.3f} s", poses_.latest()) : std::string("none yet"),
+                       poses_.received() ? fmt::format("t={:.4f} s", poses_.latest()) : std::string("none yet"),
                        poses_.open_connections.load());
         pose_gap_reported_ = true;
         ++stats_.pose_wait_skipped;
@@ -348,6 +349,11 @@ void LivePipeline::mappingLoop()
         q_->map_error = std::current_exception();
         q_->to_map.clear();
     }
+    {
+        std::lock_guard<std::mutex> lk(q_->m);
+        q_->map_done = true;
+    }
+    q_->cv.notify_all();
 }
 
 void LivePipeline::run(const std::atomic<bool>& stop,
@@ -377,9 +383,11 @@ void LivePipeline::run(const std::atomic<bool>& stop,
         }
         {
             std::lock_guard<std::mutex> lk(q_->m);
-            // After a mapping error nothing maps what capture queued before it stopped.
-            if (q_->capture_done && (!segmenter_ || q_->seg_done) && (q_->to_map.empty() || q_->map_error)) break;
+            // Done once the mapper is: an empty queue alone ended the poses while the last frame
+            // still waited for its pose (--max-frames: that frame was always skipped). After a
+            // mapping error nothing maps what capture queued before it stopped.
             if (q_->map_error) capture_stop = true;
+            if (q_->map_done && q_->capture_done && (!segmenter_ || q_->seg_done)) break;
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
         if (std::chrono::steady_clock::now() >= next)
