@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <mrpt/maps/CMultiMetricMap.h>
+#include <pndt/app/error_text.h>
 #include <pndt/app/cli_numbers.h>
 #include <pndt/app/layered_config.h>
 #include <pndt/app/map_config.h>
@@ -456,9 +457,7 @@ int runLive(int argc, char** argv)
     }
     catch (const std::exception& e)
     {
-        std::string msg = e.what();
-        if (const auto p = msg.find("Call stack"); p != std::string::npos) msg.resize(p);
-        fmt::print(stderr, "pndt-live: error: {}\n", msg);
+        fmt::print(stderr, "pndt-live: error: {}\n", plainErrorText(e.what()));
         return kExitError;
     }
     return 0;

@@ -7,6 +7,7 @@
 #include <mrpt/obs/CObservationImage.h>
 #include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/system/datetime.h>
+#include <pndt/app/error_text.h>
 #include <pndt/app/cli_numbers.h>
 #include <pndt/app/layered_config.h>
 #include <pndt/app/map_config.h>
@@ -461,9 +462,7 @@ int main(int argc, char** argv)
     }
     catch (const std::exception& e)
     {
-        std::string msg = e.what();
-        if (const auto p = msg.find("Call stack"); p != std::string::npos) msg.resize(p);
-        fmt::print(stderr, "pndt-map: error: {}\n", msg);
+        fmt::print(stderr, "pndt-map: error: {}\n", plainErrorText(e.what()));
         return kExitError;
     }
     return 0;

@@ -366,6 +366,29 @@ TEST(PndtMapCli, UnknownConfigKeysAndSectionsAreErrorsNamingThem)
     r = run(mapExe() + roomRawlog().string() + " -o " + out.string() + " -s pndt-map.period=-1");
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.out.find("'period'"), std::string::npos) << r.out;
+    // [MAP]: MRPT reads only <map class>_count there; a typo or a map pndt-map never builds was
+    // silently ignored.
+    for (const auto& [set, message] : std::vector<std::pair<std::string, std::string>>{
+             {"MAP.foo=1", "config [MAP]: unknown key 'foo'"},
+             {"MAP.PanopticNDTMaps_count=1", "config [MAP]: unknown key 'PanopticNDTMaps_count'"},
+             {"MAP.PanopticNDTMap_count=2", "config [MAP]: PanopticNDTMap_count=2: the apps build one PanopticNDTMap"},
+             {"MAP.COccupancyGridMap2D_count=1", "config [MAP]: COccupancyGridMap2D_count=1: the apps build one"}})
+    {
+        r = run(mapExe() + roomRawlog().string() + " -o " + out.string() + " -s " + set);
+        EXPECT_EQ(r.code, 1) << set << "\n" << r.out;
+        EXPECT_NE(r.out.find(message), std::string::npos) << set << "\n" << r.out;
+    }
+    // The plugin's own errors come through MRPT: one line, without its exception banner.
+    r = run(mapExe() + roomRawlog().string() + " -o " + out.string() + " -s MAP_PanopticNDTMap_00_creationOpts.ray_mode=foo");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.out.find("pndt-map: error: config section 'MAP_PanopticNDTMap_00_creationOpts', key 'ray_mode': 'foo' "
+                         "is not one of merged, per_pixel"),
+              std::string::npos)
+        << r.out;
+    EXPECT_EQ(r.out.find("MRPT exception"), std::string::npos) << r.out;
+    r = run(mapExe() + roomRawlog().string() + " -o " + out.string() +
+            " --max-frames 2 -s MAP.COccupancyGridMap2D_count=0");
+    EXPECT_EQ(r.code, 0) << r.out;  // zero of another map is no map
     // Options given with a value that is no value: errors, never "not given" (a negative or NaN
     // --voxel-size and --period were the defaults, --max-frames -1 all frames).
     for (const char* bad : {"--voxel-size -0.1", "--voxel-size 0", "--voxel-size nan", "--period -1", "--period nan",

@@ -2,6 +2,7 @@
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/hwdrivers/COpenNI2Sensor.h>
 #include <mrpt/system/datetime.h>
+#include <pndt/app/error_text.h>
 #include <pndt/live/mrpt_capture.h>
 
 #include <chrono>
@@ -20,12 +21,6 @@ namespace
 {
 std::atomic<bool> g_abandoned{false};
 
-std::string withoutCallStack(std::string msg)
-{
-    if (const auto p = msg.find("Call stack"); p != std::string::npos) msg.resize(p);
-    while (!msg.empty() && (msg.back() == '\n' || msg.back() == ' ')) msg.pop_back();
-    return msg;
-}
 
 /// MRPT's loadConfig/initialize print progress (and a calibration warning with a backtrace)
 /// on std::cout: kept out of pndt-live's output, shown only when they fail.
@@ -74,7 +69,7 @@ struct MrptCapture::Shared
             catch (const std::exception& e)
             {
                 std::lock_guard<std::mutex> lk(m);
-                error = "MRPT's COpenNI2Sensor: " + withoutCallStack(e.what());
+                error = "MRPT's COpenNI2Sensor: " + app::plainErrorText(e.what());
                 break;
             }
             if (hw)
@@ -178,7 +173,7 @@ MrptCapture::MrptCapture(const MrptCaptureOptions& o) : s_(std::make_shared<Shar
             throw std::runtime_error(fmt::format("OpenNI2 device '{}' through MRPT's COpenNI2Sensor: {} (is a "
                                                  "{}x{}@{} depth + RGB888 colour mode there? MRPT_HWDRIVERS_VERBOSE=1 "
                                                  "shows MRPT's open sequence)",
-                                                 s.uri, withoutCallStack(e.what()), c.width, c.height, c.fps));
+                                                 s.uri, app::plainErrorText(e.what()), c.width, c.height, c.fps));
         }
         if (!s.sensor->isOpen(unsigned(s.index)))
             throw std::runtime_error(fmt::format("OpenNI2 device '{}' through MRPT's COpenNI2Sensor: not opened ({})",

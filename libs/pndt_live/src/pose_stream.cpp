@@ -1,5 +1,6 @@
 #include <fmt/format.h>
 #include <mrpt/system/datetime.h>
+#include <pndt/app/error_text.h>
 #include <pndt/io/pose_line.h>
 #include <pndt/live/pose_stream.h>
 #include <mrpt/config/CConfigFile.h>
@@ -358,9 +359,8 @@ class GrabberSource : public PoseSource
         }
         catch (const std::exception& e)
         {
-            std::string msg = e.what();
-            if (const auto p = msg.find("Call stack"); p != std::string::npos) msg.resize(p);
-            throw std::runtime_error(fmt::format("{}: {} did not initialise: {}", where_, driver, msg));
+            throw std::runtime_error(
+                fmt::format("{}: {} did not initialise: {}", where_, driver, app::plainErrorText(e.what())));
         }
         thread_ = std::thread([this] { run(); });
     }

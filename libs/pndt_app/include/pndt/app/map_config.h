@@ -13,6 +13,7 @@ namespace pndt::app
 std::string configDir(const std::string& source_tree_config);
 
 /// Factory of fresh maps from the [MAP] section's PanopticNDTMap definition; throws
+/// std::invalid_argument naming a [MAP] key other than <map class>_count or another map, and
 /// if [MAP] defines none.
 ShortTermMaps::Factory mapFactory(const mrpt::config::CConfigFileBase& cfg);
 }  // namespace pndt::app
