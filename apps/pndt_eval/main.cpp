@@ -81,12 +81,14 @@ int main(int argc, char** argv)
         ->check(CLI::Range(0.0, 1.0));
     app.add_option("--json", json_path, "also write the scores as JSON");
     app.add_option("--export", export_dir, "write the predictions in the ScanNet benchmark formats below this folder");
-    app.add_flag("!--no-tables", tables, "print only the summary lines");
+    bool no_tables = false;  // a plain flag: CLI11 shows a negated one as "--no-tables{false}"
+    app.add_flag("--no-tables", no_tables, "print only the summary lines");
     o_ply->excludes(o_pts);
     o_pts->needs(o_txt);
     o_txt->needs(o_pts);
     o_seq->needs("--nicr");
     CLI11_PARSE(app, argc, argv);
+    tables = !no_tables;
     if (gt_ply.empty() && points_ply.empty() && nicr_dir.empty())
     {
         std::cerr << "pndt-eval: give 3D ground truth (--gt-ply, or --points with --gt-text) and/or 2D (--nicr)\n";

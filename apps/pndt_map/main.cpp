@@ -121,7 +121,8 @@ int main(int argc, char** argv)
     std::string clock_offset;
     app.add_option("--clock-offset", clock_offset,
                    "seconds added to pose stamps (localiser clock -> camera clock; config clock_offset; what "
-                   "--refine's time offset estimate suggests)");
+                   "--refine's time offset estimate suggests)")
+        ->type_name("SECONDS");
     // Given values go to the config, whose checks name the key and its range; a value that
     // is not finite or out of range is an error, never "not given".
     CLI::Option* period_opt = app.add_option("--period", period, "short-term map period (config period_unit; 0 = one map)")

@@ -168,8 +168,10 @@ int main(int argc, char** argv)
     app.add_option("--min-samples", ro.min_samples, "map voxels need this many samples")->capture_default_str();
     app.add_option("--max-points", ro.max_points, "subsampled points per frame")->capture_default_str();
     app.add_option("--pixel-step", ro.pixel_step, "read every n-th pixel")->capture_default_str();
-    app.add_flag("!--no-carry", ro.carry_correction, "do not carry the correction to the next frame");
+    bool no_carry = false;  // a plain flag: CLI11 shows a negated one as "--no-carry{false}"
+    app.add_flag("--no-carry", no_carry, "do not carry the correction to the next frame");
     CLI11_PARSE(app, argc, argv);
+    if (no_carry) ro.carry_correction = false;
     try
     {
         ro.loss = loss == "huber" ? refine::RobustLoss::Huber : loss == "none" ? refine::RobustLoss::None
