@@ -50,7 +50,10 @@ int main(int argc, char** argv)
         const RawlogMapResult r = mapRawlog(input, map, ro, [&](size_t n) { bar.update(n); });
         bar.finish();
         const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        if (r.scans_mapped == 0) throw std::runtime_error(input + ": no scan with a robot pose to map");
+        if (r.scans_mapped == 0)
+            throw std::runtime_error(fmt::format("{}: no scan to map: {} scans, {} robot poses, none of the scans "
+                                                 "with a robot pose at most {} s after it",
+                                                 input, r.scans, r.robot_poses, ro.pose_max_gap));
 
         const PanopticMap& core = map.core();
         const Pose& T0 = r.cameras.front();

@@ -1,6 +1,7 @@
 #include "rawlog_map.h"
 
 #include <mrpt/obs/CObservationRobotPose.h>
+#include <mrpt/poses/CPose3DInterpolator.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <pndt/app/map_pictures.h>
@@ -48,8 +49,33 @@ RawlogMapResult mapRawlog(const std::string& path, PanopticNDTMap& map, const Ra
                           const std::function<void(size_t)>& progress)
 {
     RawlogMapResult res;
+    // Pass 1: the robot poses by stamp, wherever they stand (a live recording has them in the
+    // order they arrived: all first, or after their frames).
+    mrpt::poses::CPose3DInterpolator poses;
+    poses.setInterpolationMethod(mrpt::poses::imLinearSlerp);
+    poses.setMaxTimeInterpolation(std::chrono::duration_cast<mrpt::Clock::duration>(
+        std::chrono::duration<double>(o.pose_max_gap)));
+    {
+        const auto t_read = Clock::now();
+        app::ObservationStream in(path);
+        while (const mrpt::obs::CObservation::Ptr obj = in.next())
+            if (auto pose = std::dynamic_pointer_cast<mrpt::obs::CObservationRobotPose>(obj))
+            {
+                poses.insert(pose->timestamp, pose->pose.mean);
+                ++res.robot_poses;
+            }
+        if (in.truncated()) throw std::runtime_error(in.stopReason());
+        res.seconds_read += since(t_read);
+    }
+    const auto poseAt = [&](mrpt::Clock::time_point t) -> std::optional<mrpt::poses::CPose3D> {
+        mrpt::poses::CPose3D p;
+        bool valid = false;
+        poses.interpolate(t, p, valid);
+        if (!valid) return std::nullopt;
+        return p;
+    };
+    // Pass 2: mapping.
     app::ObservationStream in(path);  // either rawlog format; says where a damaged file stops
-    std::optional<mrpt::obs::CObservationRobotPose> latest;
     for (;;)
     {
         if (o.max_scans && res.scans >= o.max_scans) break;
@@ -58,22 +84,17 @@ RawlogMapResult mapRawlog(const std::string& path, PanopticNDTMap& map, const Ra
         res.seconds_read += since(t_read);
         if (!obj) break;
 
-        if (auto pose = std::dynamic_pointer_cast<mrpt::obs::CObservationRobotPose>(obj))
-        {
-            latest = *pose;
-            ++res.robot_poses;
-        }
+        if (std::dynamic_pointer_cast<mrpt::obs::CObservationRobotPose>(obj))
+            continue;  // read in the first pass
         else if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(obj))
         {
             ++res.scans;
-            const bool have_pose =
-                latest && std::abs(mrpt::system::timeDifference(latest->timestamp, scan->timestamp)) <=
-                              o.pose_stamp_tolerance;
-            if (!have_pose)
+            const std::optional<mrpt::poses::CPose3D> pose = poseAt(scan->timestamp);
+            if (!pose)
                 ++res.scans_without_pose;
             else
             {
-                const mrpt::poses::CPose3D robot = latest->pose.mean;
+                const mrpt::poses::CPose3D robot = *pose;
                 if (res.scans_mapped == 0) depthFrameFrom(*scan, res.first_frame);
                 const auto t_map = Clock::now();
                 map.insertObservation(*scan, robot);
@@ -86,12 +107,10 @@ RawlogMapResult mapRawlog(const std::string& path, PanopticNDTMap& map, const Ra
         else if (auto img = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(obj))
         {
             ++res.label_images;
-            if (latest)
-            {
-                const auto t_map = Clock::now();
-                map.insertObservation(*img, latest->pose.mean);
-                res.seconds_map += since(t_map);
-            }
+            // Paired with their scan by stamp, mapped at the scan's pose: the pose here is unused.
+            const auto t_map = Clock::now();
+            map.insertObservation(*img, mrpt::poses::CPose3D());
+            res.seconds_map += since(t_map);
         }
         else
             ++res.other_objects;

@@ -15,9 +15,12 @@ namespace pndt::convert
 {
 struct RawlogMapOptions
 {
-    /// A scan takes the latest CObservationRobotPose only if their stamps differ by at most this
-    /// (seconds); otherwise the scan is skipped and counted (never mapped with a stale pose).
-    double pose_stamp_tolerance = 0.001;
+    /// A scan takes the robot pose at its stamp, interpolated (SLERP, MRPT's CPose3DInterpolator)
+    /// between the file's two CObservationRobotPoses around it, wherever they stand in the file,
+    /// if the one after it is at most this far (seconds; the interpolator's maxTimeInterpolation);
+    /// otherwise the scan is skipped and counted (never mapped with a stale pose). Converted rawlogs hold a pose at each scan's
+    /// stamp; pndt-live's recordings hold the localiser's poses in the order they arrived.
+    double pose_max_gap = 0.1;
     size_t max_scans = 0;  ///< 0 = all
 };
 
@@ -36,7 +39,8 @@ struct RawlogMapResult
     PanopticFrame first_frame;        ///< depth + intrinsics of the first mapped scan
 };
 
-/// Maps every scan of `path` with the latest robot pose (scan.sensorPose applied by the map).
+/// Maps every scan of `path` with the robot pose at its stamp (scan.sensorPose applied by the
+/// map): a first pass reads the robot poses, a second maps.
 /// `progress(scans_seen)` is called after each scan. Reads either rawlog format (observations or
 /// sensory frames) through pndt::app::ObservationStream. Throws std::runtime_error naming the file
 /// if it cannot be opened, or, with the object number and byte, if it is truncated or corrupt.

@@ -2,6 +2,7 @@
 // depth, poses, labels) for Redwood, TUM and nicr inputs, with the sequence's own and with external
 // poses.
 #include <fmt/format.h>
+#include <mrpt/io/CFileGZOutputStream.h>
 #include <nlohmann/json.hpp>
 
 #include "convert.h"
@@ -436,6 +437,49 @@ TEST_F(ConvertRedwood, MappingTheRawlogBackSaysWhereADamagedFileStops)
         EXPECT_NE(what.find(cut), std::string::npos) << what;
         EXPECT_NE(what.find("truncated or corrupt at object #"), std::string::npos) << what;
     }
+}
+
+TEST_F(ConvertRedwood, MappingTheRawlogBackTakesPosesByStampWhereverTheyStand)
+{
+    // A pndt-live recording holds the localiser's poses as they arrived (all first when sent
+    // at once, or after their frames), stamped between the frames: the preview found "no scan
+    // with a robot pose" in a recording pndt-map maps.
+    const std::string in = makeRedwoodFolder(folder("redwood"));
+    const std::string out = path("seq.rawlog");
+    ASSERT_EQ(runConvert({in, "-o", out}).exit_code, 0);
+    PanopticNDTMap converted;
+    const RawlogMapResult ref = mapRawlog(out, converted);
+    ASSERT_EQ(ref.scans_mapped, 3u);
+    const auto objs = readRawlog(out);
+    const auto relocated = [&](const std::string& name, double before, double after) {
+        const std::string file = path(name);
+        mrpt::io::CFileGZOutputStream f(file);
+        auto a = mrpt::serialization::archiveFrom(f);
+        for (const auto& o : objs)  // every pose twice, around its scan's stamp, before any scan
+            if (auto p = as<CObservationRobotPose>(o))
+                for (const double dt : {-before, after})
+                {
+                    CObservationRobotPose q = *p;
+                    q.timestamp = mrpt::Clock::fromDouble(mrpt::Clock::toDouble(p->timestamp) + dt);
+                    a << q;
+                }
+        for (const auto& o : objs)
+            if (!as<CObservationRobotPose>(o)) a << *o;
+        return file;
+    };
+    PanopticNDTMap first;
+    const RawlogMapResult m = mapRawlog(relocated("poses_first.rawlog", 0.01, 0.02), first);
+    EXPECT_EQ(m.robot_poses, 6u);
+    EXPECT_EQ(m.scans_mapped, 3u);
+    EXPECT_EQ(m.scans_without_pose, 0u);
+    EXPECT_EQ(first.core().voxels().size(), converted.core().voxels().size());
+    EXPECT_EQ(first.core().occupiedCount(), converted.core().occupiedCount());
+    for (size_t i = 0; i < 3; ++i) EXPECT_LT(poseDiff(m.cameras[i], ref.cameras[i]), 1e-9) << i;
+    // Poses further from the scans than the gap (0.1 s): no pose for any scan, never a stale one.
+    PanopticNDTMap none;
+    const RawlogMapResult far = mapRawlog(relocated("poses_far.rawlog", 0.15, 0.15), none);
+    EXPECT_EQ(far.scans_mapped, 0u);
+    EXPECT_EQ(far.scans_without_pose, 3u);
 }
 
 TEST(OverviewCamera, LooksAtTheMapFromTheGivenElevationAndStraightDown)
