@@ -64,10 +64,12 @@ int main(int argc, char** argv)
     g_pose->add_option("--pose-frame", o.pose_frame,
                        "auto | camera | robot: poses of the optical camera or of the robot body "
                        "(auto: robot for rtabmap*, else camera)")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(CLI::IsMember({"auto", "camera", "robot"}));  // checked whether or not --poses is given
     g_pose->add_option("--pose-match", o.pose_match,
                        "auto | time | index (auto: index for stampless formats, else time)")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(CLI::IsMember({"auto", "time", "index"}));
     g_pose->add_option("--max-pose-gap", o.max_pose_gap, "s, largest gap between poses to interpolate across")
         ->capture_default_str();
     g_pose->add_option("--pose-time-offset", o.pose_time_offset, "s, added to frame stamps before the lookup")
@@ -89,7 +91,9 @@ int main(int argc, char** argv)
         ->capture_default_str();
     g_out->add_option("--gz-level", o.gz_level, "gzip level 0..9")->capture_default_str();
     g_out->add_option("--summary-json", summary_json, "also write the summary as JSON");
-    g_out->add_option("--progress", progress_mode, "auto | bar | lines | none (stderr)")->capture_default_str();
+    g_out->add_option("--progress", progress_mode, "auto | bar | lines | none (stderr)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"auto", "bar", "lines", "none"}));  // also with -q
     g_out->add_option("--progress-step", progress_step, "percent between progress lines when not a terminal")
         ->capture_default_str()
         ->check(CLI::Range(1, 100));

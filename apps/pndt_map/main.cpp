@@ -174,6 +174,11 @@ int main(int argc, char** argv)
         rejectUnknownSections(cfg, {"pndt-map", "pndt-live", "MAP"}, {"MAP_"});  // [pndt-live]: pndt-live's own
         MapperSettings settings = MapperSettings::load(cfg);
         settings.short_term.out_dir = out_dir;
+        io::parsePoseFormat(settings.pose_format);  // checked whether or not a pose file is read
+        if (!pose_format.empty() && settings.pose_source != "file")
+            throw std::runtime_error("--pose-format " + pose_format +
+                                     " is the format of a pose file: give --poses FILE (the rawlog's own poses need "
+                                     "none)");
         for (const auto& in : inputs)  // before anything is written: the run would truncate it
             if (const std::string problem = ownOutputProblem(settings.short_term, in); !problem.empty())
                 throw std::runtime_error(problem);

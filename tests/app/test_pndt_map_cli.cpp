@@ -378,6 +378,14 @@ TEST(PndtMapCli, UnknownConfigKeysAndSectionsAreErrorsNamingThem)
         EXPECT_EQ(r.code, 1) << set << "\n" << r.out;
         EXPECT_NE(r.out.find(message), std::string::npos) << set << "\n" << r.out;
     }
+    // A pose format without a pose file did nothing; an unknown one was taken until a file was read.
+    r = run(mapExe() + roomRawlog().string() + " -o " + out.string() + " --pose-format kitti");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.out.find("--pose-format kitti is the format of a pose file: give --poses FILE"), std::string::npos)
+        << r.out;
+    r = run(mapExe() + roomRawlog().string() + " -o " + out.string() + " -s pndt-map.pose_format=kiti");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.out.find("kiti"), std::string::npos) << r.out;
     // The plugin's own errors come through MRPT: one line, without its exception banner.
     r = run(mapExe() + roomRawlog().string() + " -o " + out.string() + " -s MAP_PanopticNDTMap_00_creationOpts.ray_mode=foo");
     EXPECT_EQ(r.code, 1);

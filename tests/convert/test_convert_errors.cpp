@@ -243,6 +243,15 @@ TEST_F(ConvertErrors, BadOptionValues)
                   {"--pose-match index"});
     // CLI11 rejects unknown flags (its own message, non-zero exit).
     EXPECT_NE(runConvert({in, "-o", out, "--no-such-flag"}).exit_code, 0);
+    // Values checked whether or not they are used (without --poses, with -q they were taken).
+    for (const auto& [option, value] : std::vector<std::pair<std::string, std::string>>{
+             {"--pose-frame", "foo"}, {"--pose-match", "foo"}, {"--progress", "foo"}})
+    {
+        const RunResult r = runConvert({in, "-o", out, option, value, "-q"});
+        EXPECT_NE(r.exit_code, 0) << option;
+        EXPECT_TRUE(contains(r.err, option + ": foo not in")) << r.err;
+        EXPECT_FALSE(fs::exists(out)) << option;
+    }
 }
 
 // A rawlog holds millimetres in 16 bits: a depth scale that puts the depths out of that range
