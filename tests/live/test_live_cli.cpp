@@ -541,6 +541,21 @@ TEST_F(LiveCli, ACameraClockResetWhoseStampsPassTheOldOnesSoonEndsTheRunLikeALos
     EXPECT_GE(back, 5u) << out;
 }
 
+TEST_F(LiveCli, ACameraClockThatJumpsAheadEndsTheRunLikeALostCamera)
+{
+    // From device frame 45 on the stamps run 30 frames (1 s) ahead. The poses are all there
+    // (--rate 0): before the check every later frame was mapped at the pose of 1 s later, exit 0.
+    camera("clock_jump_after = 45\nclock_jump_frames = 30\n");
+    ASSERT_EQ(live("--max-frames 120 --period 1"), 4) << out << err;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(err, m, std::regex(R"(camera lost: the camera's clock jumped ([0-9.]+) s ahead of the host clock)")))
+        << err;
+    EXPECT_GT(std::stod(m[1]), 0.5) << err;  // 1 s, less the jumped frame's own delivery delay
+    EXPECT_LT(std::stod(m[1]), 1.1) << err;
+    EXPECT_LE(number(out, R"(frames mapped\s+: (\d+))"), 45u) << out;  // nothing after the jump
+    EXPECT_TRUE(fs::exists(dir / "live" / "index.json"));
+}
+
 TEST_F(LiveCli, FramesWithoutPosesAreSkippedAndCounted)
 {
     camera("");

@@ -78,3 +78,43 @@ TEST(StampOrder, StampsThatStayBehindLongerThanTheGapLimitLoseTheCamera)
     EXPECT_EQ(o.next(15 * kDt, arrivalOf(45)), V::clock_reset);
     EXPECT_NE(o.message().find("did not pass t=0.966667 s again within 0.5 s"), std::string::npos) << o.message();
 }
+
+TEST(StampOrder, AClockThatJumpsAheadLosesTheCamera)
+{
+    // From frame 40 on the device clock runs 30 frames (1 s) ahead: its frames would wait for
+    // the poses of 1 s later and take them (a jump under --pose-wait), or all wait in vain.
+    StampOrder o(true, 2.0);
+    for (int k = 0; k < 40; ++k) ASSERT_EQ(o.next(k * kDt, arrivalOf(k)), V::take) << k;
+    EXPECT_EQ(o.next((40 + 30) * kDt, arrivalOf(40)), V::clock_reset);
+    EXPECT_NE(o.message().find("clock jumped 1.000 s ahead of the host clock (t=2.333333 s after t=1.300000 s)"),
+              std::string::npos)
+        << o.message();
+}
+
+TEST(StampOrder, AJumpJustUnderTheLimitIsTakenAndJustOverLosesTheCamera)
+{
+    for (const double jump : {StampOrder::kJumpAhead - 0.01, StampOrder::kJumpAhead + 0.01})
+    {
+        StampOrder o(true, 2.0);
+        for (int k = 0; k < 40; ++k) ASSERT_EQ(o.next(k * kDt, arrivalOf(k)), V::take);
+        EXPECT_EQ(o.next(40 * kDt + jump, arrivalOf(40)), jump < StampOrder::kJumpAhead ? V::take : V::clock_reset)
+            << jump;
+    }
+}
+
+TEST(StampOrder, LateFramesThenOnTimeOnesAreNoJump)
+{
+    // A stalled reader: frames 10-19 arrive 0.6 s late, then delivery is on time again. The
+    // least delay of the last 32 frames is the on-time one: nothing jumped.
+    StampOrder o(true, 2.0);
+    for (int k = 0; k < 60; ++k)
+        EXPECT_EQ(o.next(k * kDt, arrivalOf(k) + (k >= 10 && k < 20 ? 0.6 : 0.0)), V::take) << k;
+    // Before 32 frames are seen there is no least delay to judge by: no verdict either way.
+    StampOrder young(true, 2.0);
+    for (int k = 0; k < 31; ++k) ASSERT_EQ(young.next(k * kDt, arrivalOf(k) + 0.6), V::take);
+    EXPECT_EQ(young.next(31 * kDt, arrivalOf(31)), V::take);
+    // Host stamps: no clock to judge.
+    StampOrder host(false, 2.0);
+    for (int k = 0; k < 40; ++k) ASSERT_EQ(host.next(k * kDt, arrivalOf(k)), V::take);
+    EXPECT_EQ(host.next(70 * kDt, arrivalOf(40)), V::take);
+}

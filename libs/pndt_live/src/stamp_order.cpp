@@ -58,6 +58,19 @@ StampOrder::Verdict StampOrder::next(double t, double arrival)
         message_ = fmt::format("the camera's frame stamps are in order again at t={:.6f} s", t);
         offset_count_ = 0;  // the offset may have moved within kResetLag: measured afresh
     }
+    if (device_clock_ && offset_count_ >= offsets_.size())
+    {
+        const double ahead = leastArrivalOffset() - (arrival - t);
+        if (ahead > kJumpAhead)
+        {
+            message_ = fmt::format(
+                "the camera's clock jumped {:.3f} s ahead of the host clock (t={:.6f} s after t={:.6f} s), so every "
+                "later frame would wait for, and take, the pose of a later moment; restart pndt-live with a "
+                "localiser on the camera's new clock",
+                ahead, t, last_t_);
+            return Verdict::clock_reset;
+        }
+    }
     last_t_ = t;
     offsets_[offset_count_++ % offsets_.size()] = arrival - t;
     return Verdict::take;

@@ -190,6 +190,7 @@ class VirtualStream : public oni::driver::StreamBase
             f->frameIndex = int(k + 1);
             int64_t clock_k = c.clock_reset_after > 0 && k >= c.clock_reset_after ? k - c.clock_reset_after : k;
             if (c.stamp_back_frame > 0 && k == c.stamp_back_frame) clock_k = std::max<int64_t>(0, clock_k - 5);
+            if (c.clock_jump_after > 0 && k >= c.clock_jump_after) clock_k += c.clock_jump_frames;
             f->timestamp = uint64_t(clock_k) * 1000000ull / uint64_t(c.fps);
             f->videoMode = mode();
             f->width = W;

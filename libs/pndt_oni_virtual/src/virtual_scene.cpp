@@ -58,6 +58,8 @@ VirtualCameraConfig VirtualCameraConfig::fromFile(const std::string& path)
         else if (key == "freeze_after") ok = bool(v >> c.freeze_after);
         else if (key == "clock_reset_after") ok = bool(v >> c.clock_reset_after);
         else if (key == "stamp_back_frame") ok = bool(v >> c.stamp_back_frame);
+        else if (key == "clock_jump_after") ok = bool(v >> c.clock_jump_after);
+        else if (key == "clock_jump_frames") ok = bool(v >> c.clock_jump_frames);
         else if (key == "serial") c.serial = value;
         else if (key == "uri") c.uri = value;
         else if (key == "pose_seconds") ok = bool(v >> c.pose_seconds);

@@ -3,7 +3,9 @@
 // that goes back"). Poses are looked up, maps handed over and the recording cut by frame time,
 // so a frame not after the one before is dropped. Stamps that pass the last one again end the
 // gap - unless, with the camera's own clock, they now lag the host clock: then the device
-// clock was reset and every later frame would take the pose of an earlier moment.
+// clock was reset and every later frame would take the pose of an earlier moment. A device
+// clock that jumps ahead of the host clock is lost the same way: its frames would wait for
+// poses of later moments, and take them.
 #include <array>
 #include <cstddef>
 #include <string>
@@ -17,13 +19,17 @@ class StampOrder
     {
         take,         ///< after the frame before: map it
         drop,         ///< not after the frame before: dropped and counted
-        clock_reset,  ///< the camera is lost: message() says why
+        clock_reset,  ///< the camera is lost (its clock reset or jumped ahead): message() says why
     };
 
     /// A lag of the device clock behind the host clock larger than this, seen in every frame
     /// from the stamp going back to it passing the last one again, is a reset (a frame
     /// delivered late lags by its delay, but the frames after it do not lag at all).
     static constexpr double kResetLag = 0.25;
+    /// A frame stamped this much further ahead of its arrival than the least-delayed of the
+    /// last 32 in-order frames was stamped by a clock that jumped forward (a frame cannot
+    /// arrive before it is taken; delivery delays only add). Judged once those 32 are seen.
+    static constexpr double kJumpAhead = 0.25;
 
     /// device_clock: stamps come from the camera (a lag against arrival means a reset);
     /// with host stamps only the order is checked. gap_limit: seconds the stamps may stay

@@ -31,6 +31,10 @@ struct VirtualCameraConfig
     /// Frame that carries the stamp of the frame five before it, as a frame delivered out of
     /// order; the frames after it are stamped as usual (0 = none).
     int stamp_back_frame = 0;
+    /// Frame from which the device clock runs clock_jump_frames frames ahead, as a clock that
+    /// jumped forward: frame k >= clock_jump_after is stamped (k + clock_jump_frames) / fps (0 = never).
+    int clock_jump_after = 0;
+    int clock_jump_frames = 30;
     std::string serial = "PNDT0001";
     std::string uri = "pndt://virtual/0";
     double pose_seconds = 120; ///< length of the TUM pose file writeTrajectoryTum writes
