@@ -4,8 +4,8 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <mrpt/maps/CMultiMetricMap.h>
-#include <pndt/app/error_text.h>
 #include <pndt/app/cli_numbers.h>
+#include <pndt/app/error_text.h>
 #include <pndt/app/layered_config.h>
 #include <pndt/app/map_config.h>
 #include <pndt/app/map_outputs.h>

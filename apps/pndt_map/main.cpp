@@ -7,8 +7,8 @@
 #include <mrpt/obs/CObservationImage.h>
 #include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/system/datetime.h>
-#include <pndt/app/error_text.h>
 #include <pndt/app/cli_numbers.h>
+#include <pndt/app/error_text.h>
 #include <pndt/app/layered_config.h>
 #include <pndt/app/map_config.h>
 #include <pndt/app/map_rawlog.h>

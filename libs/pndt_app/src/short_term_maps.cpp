@@ -1,7 +1,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
-#include <pndt/app/map_rawlog.h>
 #include <pndt/app/gz_rawlog_file.h>
+#include <pndt/app/map_rawlog.h>
 #include <pndt/app/short_term_maps.h>
 #include <pndt/mrpt/map_files.h>
 #include <tsl/robin_map.h>
