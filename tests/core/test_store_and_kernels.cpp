@@ -9,6 +9,7 @@
 #include <pndt/record_pool.h>
 
 #include <atomic>
+#include <ctime>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -189,6 +190,38 @@ TEST(WorkerPool, RunsEveryTaskOnceOnAnyThreadAndRethrows)
         pool.run(3, [&](int) { after.fetch_add(1); });  // the pool still works
         EXPECT_EQ(after.load(), 3);
     }
+}
+
+TEST(WorkerPool, ThreadsBeyondTheCpusSleepInsteadOfSpinning)
+{
+    // 64 threads on 2 CPUs mapped 10-13x slower than one: idle workers spun up to 20 ms
+    // between stages on the CPUs the working threads needed.
+    const int cpus = int(std::thread::hardware_concurrency());
+    if (cpus == 0) GTEST_SKIP() << "CPU count unknown";
+    EXPECT_TRUE(WorkerPool(cpus).spins());
+    WorkerPool pool(cpus + 2);
+    EXPECT_FALSE(pool.spins());
+    // Idle within a burst (between a frame's stages): the workers' CPU time stays near zero
+    // (spinning, each would burn up to 20 ms of it).
+    const WorkerPool::Burst burst(&pool);
+    std::atomic<int> done{0};
+    pool.run(64, [&](int) { done.fetch_add(1); });
+    const std::clock_t before = std::clock();
+    std::this_thread::sleep_for(std::chrono::milliseconds(40));
+    const double cpu_ms = 1000.0 * double(std::clock() - before) / CLOCKS_PER_SEC;
+    EXPECT_LT(cpu_ms, 10.0) << (cpus + 1) << " idle workers";
+    EXPECT_EQ(done.load(), 64);
+    // Every task still runs once, background pieces too.
+    std::vector<std::atomic<int>> seen(500);
+    pool.run(500, [&](int t) { seen[size_t(t)].fetch_add(1); });
+    for (auto& s : seen) EXPECT_EQ(s.load(), 1);
+    std::atomic<int> pieces{0};
+    auto piece = [&](int) { return pieces.fetch_add(1) < 99; };
+    {
+        WorkerPool::Background bg(&pool, piece);
+        bg.finish();
+    }
+    EXPECT_GE(pieces.load(), 100);
 }
 
 TEST(WorkerPool, CountsTheWorkersBusyTimeAndTheCallersWait)

@@ -37,6 +37,7 @@ class WorkerPool
     /// worker i runs on CPU i (modulo the CPU count): for benchmarks on
     /// machines whose scheduler packs threads onto few CPUs.
     explicit WorkerPool(int threads, bool pin = false)
+        : spins_(std::thread::hardware_concurrency() == 0 || threads <= int(std::thread::hardware_concurrency()))
     {
         for (int i = 1; i < threads; ++i)
         {
@@ -65,6 +66,10 @@ class WorkerPool
     std::chrono::nanoseconds callerWaiting() const { return std::chrono::nanoseconds(caller_waiting_ns_.load()); }
 
     int threads() const { return int(workers_.size()) + 1; }
+    /// Whether idle threads spin between stages: only while there are no more threads than
+    /// CPUs. With more, a spinning thread holds the CPU the thread it waits for needs (64
+    /// threads on 2 CPUs mapped 10-13x slower than one); they then sleep at once and yield.
+    bool spins() const { return spins_; }
 
     /// While a Burst lives (a frame's stages), idle workers spin instead of
     /// sleeping, up to kBurstSpin at a time. `pool` may be null.
@@ -179,7 +184,7 @@ class WorkerPool
         // Wait for the tasks other threads took: spin a little (during a burst
         // as long as the workers do: the next stage follows), then sleep.
         const auto waiting = std::chrono::steady_clock::now();
-        const auto until = waiting + (bursts_.load() > 0 ? kBurstSpin : kSpin);
+        const auto until = waiting + (!spins_ ? std::chrono::microseconds(0) : bursts_.load() > 0 ? kBurstSpin : kSpin);
         while (job.finished.load() < job.tasks && std::chrono::steady_clock::now() < until) pause();
         if (job.finished.load() < job.tasks)
         {
@@ -188,7 +193,7 @@ class WorkerPool
         }
         // No worker may still hold the job when it goes out of scope.
         job_.store(nullptr);
-        while (busy_.load() != 0) pause();
+        while (busy_.load() != 0) relax();
         addSince(caller_waiting_ns_, waiting);
         if (job.error) std::rethrow_exception(job.error);
     }
@@ -222,7 +227,7 @@ class WorkerPool
     {
         background_.store(nullptr);
         const auto waiting = std::chrono::steady_clock::now();
-        while (background_busy_.load() != 0) pause();
+        while (background_busy_.load() != 0) relax();
         addSince(caller_waiting_ns_, waiting);
     }
     /// A worker's piece of the background work; false when there was none
@@ -261,6 +266,16 @@ class WorkerPool
         total.fetch_add(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start)
                             .count(),
                         std::memory_order_relaxed);
+    }
+
+    /// Waiting for another thread to let go: a pause while it has a CPU of its own, else a
+    /// yield so that it gets one.
+    void relax() const
+    {
+        if (spins_)
+            pause();
+        else
+            std::this_thread::yield();
     }
 
     static void pause()
@@ -325,7 +340,7 @@ class WorkerPool
                     continue;
                 }
                 const auto spun = std::chrono::steady_clock::now() - start;
-                if (spun >= kBurstSpin || (spun >= kSpin && bursts_.load() == 0)) break;
+                if (!spins_ || spun >= kBurstSpin || (spun >= kSpin && bursts_.load() == 0)) break;
                 pause();
             }
             if (generation_.load() == seen && !stop_.load())
@@ -348,6 +363,7 @@ class WorkerPool
         }
     }
 
+    const bool spins_;  ///< before workers_: set before the first worker starts
     std::vector<std::thread> workers_;
     std::mutex mutex_;
     std::condition_variable wake_, done_;

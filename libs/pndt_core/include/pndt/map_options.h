@@ -137,7 +137,8 @@ struct MapOptions
 
     // --- execution (not a property of the map: not serialised)
     /// Threads for integrate(); 0 = all hardware threads. The map is identical
-    /// for every thread count (tested).
+    /// for every thread count (tested). More threads than CPUs only cost: their
+    /// idle threads then sleep instead of spinning between stages (WorkerPool::spins).
     int threads = 1;
     /// Pin integrate()'s worker threads to CPUs 1, 2, ... (the calling thread is
     /// left alone). Only for benchmarks on machines whose scheduler keeps a
