@@ -248,6 +248,10 @@ int main(int argc, char** argv)
         };
         std::optional<PairedFrame> last;
         const auto atFrameLimit = [&] { return max_frames > 0 && mapped >= uint64_t(max_frames); };
+        // The share of the work done: of the input read, or of --max-frames when that ends the run first.
+        const auto done_share = [&](double input_read) {
+            return max_frames > 0 ? std::max(input_read, double(mapped) / double(max_frames)) : input_read;
+        };
         const auto integrateDone = [&] {
             for (PairedFrame& p : done)
             {
@@ -313,7 +317,7 @@ int main(int argc, char** argv)
             p.labelled = p.frame.hasLabels();
             done.push_back(std::move(p));
             integrateDone();
-            bar.update(double(i + 1) / double(source->size()), mapped);
+            bar.update(done_share(double(i + 1) / double(source->size())), mapped);
         }
         // A label error names the sensor and stamp; the input file is said here (a rawlog's
         // objects are decoded ahead of mapping, so which object it was is not known here).
@@ -351,7 +355,7 @@ int main(int argc, char** argv)
                 else if (auto img = std::dynamic_pointer_cast<mrpt::obs::CObservationImage>(obs))
                     pairer.push(*img, mrpt::poses::CPose3D(), done);
                 integrateDone();
-                bar.update(in.progress(), mapped);
+                bar.update(done_share(in.progress()), mapped);
             }
             if (stream) placeWaiting(true);
             if (stream && observations == 0 && !stream->truncated())

@@ -421,6 +421,22 @@ TEST(PndtMapCli, MaxFramesMapsExactlyThatMany)
         EXPECT_EQ(r.code, 0) << r.out;
         EXPECT_NE(r.out.find(fmt::format("frames mapped      : {} ", n)), std::string::npos) << r.out;
     }
+    // The progress lines count towards --max-frames when it ends the run first: they stopped at
+    // 40-60 % of the file's bytes on a finished run.
+    const RunResult p = run(std::string(PNDT_MAP_EXE) + " " + roomRawlog().string() + " -o " + (out / "p").string() +
+                            " --max-frames 5");
+    EXPECT_EQ(p.code, 0) << p.out;
+    std::istringstream lines(p.out);
+    int last_percent = -1, last_frames = -1;
+    for (std::string line; std::getline(lines, line);)
+    {
+        int percent = 0, frames = 0;
+        if (std::sscanf(line.c_str(), "pndt-map %d%% %d frames", &percent, &frames) != 2) continue;
+        EXPECT_GE(percent, 20 * frames) << line;  // at least the share of the 5 frames mapped
+        last_percent = percent, last_frames = frames;
+    }
+    EXPECT_EQ(last_percent, 100) << p.out;
+    EXPECT_EQ(last_frames, 5) << p.out;
     fs::remove_all(out);
 }
 
