@@ -18,8 +18,9 @@ struct RawlogMapOptions
     /// A scan takes the robot pose at its stamp, interpolated (SLERP, MRPT's CPose3DInterpolator)
     /// between the file's two CObservationRobotPoses around it, wherever they stand in the file,
     /// if the one after it is at most this far (seconds; the interpolator's maxTimeInterpolation);
-    /// otherwise the scan is skipped and counted (never mapped with a stale pose). Converted rawlogs hold a pose at each scan's
-    /// stamp; pndt-live's recordings hold the localiser's poses in the order they arrived.
+    /// otherwise the scan is skipped and counted (never mapped with a stale pose). Converted
+    /// rawlogs hold a pose at each scan's stamp; pndt-live's recordings hold the localiser's
+    /// poses in the order they arrived.
     double pose_max_gap = 0.1;
     size_t max_scans = 0;  ///< 0 = all
 };

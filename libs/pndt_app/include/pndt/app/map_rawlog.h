@@ -29,8 +29,9 @@ namespace pndt::app
 {
 struct MapRawlogOptions
 {
-    /// Written from scratch (truncated if it exists) once the first object is written. With segment_maps, the files are
-    /// named after it with the segment's number: maps.rawlog -> maps-0000.rawlog, ...
+    /// Written from scratch (truncated if it exists) once the first object is written. With
+    /// segment_maps, the files are named after it with the segment's number: maps.rawlog ->
+    /// maps-0000.rawlog, ...
     std::string path;
     std::string sensor_label = "PANOPTIC_MAP";
     int compression = 1;                      ///< gzip level 0..9 (1: fastest, as MRPT's default)
@@ -75,7 +76,8 @@ class MapRawlogWriter
     bool segmented() const { return options_.segment_maps > 0; }
     /// The file of segment k (path() itself without segments).
     std::string segmentPath(size_t k) const;
-    /// Files opened so far (0 before the first object, then 1 without segments) and, of them, deleted (keep_maps).
+    /// Files opened so far (0 before the first object, then 1 without segments) and, of them,
+    /// deleted (keep_maps).
     size_t filesWritten() const;
     size_t filesDeleted() const;
     uint64_t mapsWritten() const;
