@@ -17,6 +17,12 @@ namespace
 {
 gzFile handle(void* p) { return static_cast<gzFile>(p); }
 
+/// The "NNNN" of a numbered file's name (numberedRawlogPath: four digits or more).
+bool isFileNumber(const std::string& s)
+{
+    return s.size() >= 4 && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
 std::string gzMessage(void* gz)
 {
     int code = 0;
@@ -122,11 +128,10 @@ std::vector<std::string> numberedRawlogsOf(const std::string& path)
     for (std::filesystem::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec))
     {
         const std::string name = it->path().filename().string();
-        if (name.size() < stem.size() + 4 + ext.size() || name.compare(0, stem.size(), stem) != 0 ||
+        if (name.size() < stem.size() + ext.size() || name.compare(0, stem.size(), stem) != 0 ||
             name.compare(name.size() - ext.size(), ext.size(), ext) != 0)
             continue;
-        const std::string number = name.substr(stem.size(), name.size() - stem.size() - ext.size());
-        if (std::all_of(number.begin(), number.end(), [](char c) { return c >= '0' && c <= '9'; }))
+        if (isFileNumber(name.substr(stem.size(), name.size() - stem.size() - ext.size())))
             found.push_back((p.parent_path() / name).string());
     }
     std::sort(found.begin(), found.end());
@@ -143,9 +148,7 @@ bool sameRawlogFamily(const std::string& a, const std::string& b)
         if (ec) p = fs::absolute(path).lexically_normal();
         std::string stem = p.stem().string();
         const size_t dash = stem.rfind('-');
-        if (dash != std::string::npos && stem.size() - dash - 1 >= 4 &&
-            std::all_of(stem.begin() + long(dash) + 1, stem.end(), [](char c) { return c >= '0' && c <= '9'; }))
-            stem.resize(dash);
+        if (dash != std::string::npos && isFileNumber(stem.substr(dash + 1))) stem.resize(dash);
         return (p.parent_path() / (stem + p.extension().string())).string();
     };
     return family(a) == family(b);
