@@ -70,11 +70,6 @@ std::string detectFormat(const ConvertOptions& o)
         o.input));
 }
 
-bool isStampless(io::PoseFormat f)
-{
-    using F = io::PoseFormat;
-    return f == F::Rtabmap0 || f == F::Rtabmap2 || f == F::Rtabmap4 || f == F::Kitti || f == F::Redwood;
-}
 bool isRtabmap(io::PoseFormat f)
 {
     using F = io::PoseFormat;
@@ -104,8 +99,8 @@ class ExternalPoses
         requireOneOf("--pose-frame", frame, {"auto", "camera", "robot"});
         requireOneOf("--pose-match", match, {"auto", "time", "index"});
         robot_frame_ = frame == "robot" || (frame == "auto" && isRtabmap(format_));
-        by_index_ = match == "index" || (match == "auto" && isStampless(format_));
-        if (by_index_ && !isStampless(format_))
+        by_index_ = match == "index" || (match == "auto" && io::isStampless(format_));
+        if (by_index_ && !io::isStampless(format_))
             throw InputError(fmt::format("--pose-match index needs a stampless pose format (rtabmap0, rtabmap2, "
                                          "rtabmap4, kitti, redwood); '{}' has stamps or frame numbers: use time",
                                          io::toString(format_)));
@@ -324,6 +319,17 @@ ConvertReport convertSequence(const ConvertOptions& o, const ProgressFn& progres
         }
         if (o.poses_file.empty()) throw InputError("--pose-format given without --poses FILE");
     }
+    // These only tell how to read --poses FILE: without it they would be taken and ignored
+    // (robot poses of a sequence's own pose file then mapped as camera poses, exit 0).
+    if (o.poses_file.empty())
+        for (const auto& [given, option] : {std::pair{toLower(o.pose_frame) != "auto", "--pose-frame"},
+                                            std::pair{toLower(o.pose_match) != "auto", "--pose-match"},
+                                            std::pair{o.pose_time_offset != 0.0, "--pose-time-offset"},
+                                            std::pair{o.pose_index_offset != 0, "--pose-index-offset"}})
+            if (given)
+                throw InputError(fmt::format("{} given without --poses FILE: it tells how to read a pose file, and "
+                                             "a sequence's own poses are taken as they are (camera poses, by stamp)",
+                                             option));
     if (!isDir(o.input)) throw InputError(o.input + ": input folder not found");
     if (isDir(o.output)) throw InputError(o.output + ": output path is a folder");
 

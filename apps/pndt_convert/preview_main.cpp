@@ -41,6 +41,22 @@ int main(int argc, char** argv)
     try
     {
         mo.validate();
+        // Checked before anything is read or written (an unchecked --up failed after mapping, in
+        // lookAt, naming no option, with a PNG left behind).
+        if (up_v.size() == 3)
+        {
+            const Eigen::Vector3d u(up_v[0], up_v[1], up_v[2]);
+            if (!u.allFinite() || !(u.norm() >= 1e-9))
+                throw std::runtime_error(fmt::format("--up: \"{} {} {}\" is not a direction (three finite numbers, "
+                                                     "not all zero)",
+                                                     up_v[0], up_v[1], up_v[2]));
+        }
+        if (!(elevation > 0 && elevation < 90))
+            throw std::runtime_error(fmt::format("--elevation: {} is not an angle above the horizon (0 to 90 degrees)",
+                                                 elevation));
+        if (!(tol_abs >= 0 && std::isfinite(tol_abs)) || !(tol_rel >= 0 && std::isfinite(tol_rel)))
+            throw std::runtime_error(
+                fmt::format("--tol-abs / --tol-rel: {} / {} are not tolerances (finite, >= 0)", tol_abs, tol_rel));
         if (!std::filesystem::is_regular_file(input)) throw std::runtime_error(input + ": rawlog not found");
         PanopticNDTMap map(mo);
         ProgressBar bar("scans", 0, quiet ? ProgressBar::Mode::Silent : ProgressBar::Mode::Auto);

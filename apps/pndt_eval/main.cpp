@@ -55,6 +55,25 @@ eval::GtPoints readGroundTruth(const std::string& gt_ply, const std::string& poi
                                : ""));
     return gt;
 }
+/// The benchmark's tables score class ids by its own class set: a map of another set (other
+/// names, or other thing flags) would be scored as if its ids were the benchmark's classes.
+void requireBenchmarkClasses(const ClassSet& map_classes, const eval::Benchmark& bench, const std::string& path)
+{
+    const ClassSet& b = bench.classes();
+    if (map_classes == b) return;
+    std::string diff;
+    if (map_classes.size() != b.size())
+        diff = fmt::format("{} classes against the benchmark's {}", map_classes.size(), b.size());
+    else
+        for (uint32_t i = 0; i < b.size() && diff.empty(); ++i)
+            if (map_classes.name(i) != b.name(i) || map_classes.isThing(i) != b.isThing(i))
+                diff = fmt::format("class {} is '{}' ({}) where the benchmark has '{}' ({})", i, map_classes.name(i),
+                                   map_classes.isThing(i) ? "thing" : "stuff", b.name(i),
+                                   b.isThing(i) ? "thing" : "stuff");
+    throw InputError(fmt::format("{}: the map's class set is not the one of the benchmark table '{}' ({}): its "
+                                 "class ids would be scored as other classes",
+                                 path, bench.name(), diff));
+}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -112,6 +131,7 @@ int main(int argc, char** argv)
         {
             const auto map = loadMapArchive(path);
             const PanopticMap& core = map->core();
+            requireBenchmarkClasses(core.options().classes, bench, path);
             nlohmann::json j;
             j["map"] = path;
             j["classes"] = classes;

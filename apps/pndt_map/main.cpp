@@ -417,8 +417,11 @@ int main(int argc, char** argv)
                 hi = hi.cwiseMax(core.shapeOf(v).meanVec());
             }
         const Eigen::Vector3d c = 0.5 * (lo + hi), ext = hi - lo;
-        writeRenderedViews(core, lookAt(c + Eigen::Vector3d(0, -0.8 * ext.y(), 0.9 * ext.z() + 1.0), c),
-                           last->frame.K, out_dir + "/view_overview");
+        // A camera of its own (the frame's may be 1x1 or have its principal point off the image,
+        // where the look-at target would land: an empty overview), 640x480 with a 60 degree view.
+        const CameraIntrinsics overview_K{640, 480, 554.3, 554.3, 319.5, 239.5};
+        writeRenderedViews(core, lookAt(c + Eigen::Vector3d(0, -0.8 * ext.y(), 0.9 * ext.z() + 1.0), c), overview_K,
+                           out_dir + "/view_overview");
 
         writeFloorPlan(core, out_dir + "/floor_plan.png");
         if (!screenshot.empty()) writeScreenshot(*final_map, screenshot);

@@ -116,6 +116,27 @@ TEST(PndtMapCli, WritesOneMapPerPeriodThatLoadsBackAndReportsTheFurniture)
     for (const char* v : {"view_last_panoptic.png", "view_last_panoptic_rgb8.png", "view_overview_semantic.png"})
         EXPECT_GT(fs::file_size(out / v), 100u) << v;
 }
+// The overview took the last frame's intrinsics: with the principal point off the image the
+// look-at target projected off it, and every overview picture was empty (exit 0).
+TEST(PndtMapCli, TheOverviewHasACameraOfItsOwnWhateverTheFramesIntrinsics)
+{
+    const fs::path out = tempDir("overview");
+    Room room(8);
+    room.K = pndt::CameraIntrinsics{160, 120, 131.25, 131.25, -100.0, 200.0};
+    room.writeRawlog((out / "offc.rawlog").string(), 8);
+    const RunResult r = run(mapExe() + (out / "offc.rawlog").string() + " -o " + (out / "m").string());
+    ASSERT_EQ(r.code, 0) << r.out;
+    const cv::Mat last = cv::imread((out / "m/view_last_depth.png").string(), cv::IMREAD_UNCHANGED);
+    const cv::Mat over = cv::imread((out / "m/view_overview_depth.png").string(), cv::IMREAD_UNCHANGED);
+    ASSERT_FALSE(last.empty());
+    ASSERT_FALSE(over.empty());
+    EXPECT_EQ(last.cols, 160);  // the camera's own view at its own size
+    EXPECT_GT(cv::countNonZero(last), 0);
+    EXPECT_EQ(over.cols, 640);
+    EXPECT_EQ(over.rows, 480);
+    EXPECT_GT(cv::countNonZero(over), 640 * 480 / 20) << "the overview shows the map";
+}
+
 TEST(PndtMapCli, RtabmapFormat11PosesGiveTheSameMapAsRawlogPoses)
 {
     const fs::path out = tempDir("rtabmap");
@@ -383,6 +404,18 @@ TEST(PndtMapCli, UnknownConfigKeysAndSectionsAreErrorsNamingThem)
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.out.find("--pose-format kitti is the format of a pose file: give --poses FILE"), std::string::npos)
         << r.out;
+    // A stampless pose file was matched by made-up stamps (line k at k / 30 s) against the
+    // rawlog's real ones: frames skipped, or mapped with another frame's pose, exit 0.
+    fs::create_directories(out);
+    const fs::path kitti = out / "poses.kitti";
+    std::ofstream(kitti) << "1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 0.1 0 1 0 0 0 0 1 0\n";
+    r = run(mapExe() + roomRawlog().string() + " -o " + out.string() + " --poses " + kitti.string() +
+            " --pose-format kitti");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.out.find("'kitti' pose files hold no stamps, and pndt-map matches poses to frames by time"),
+              std::string::npos)
+        << r.out;
+    EXPECT_NE(r.out.find("pndt-convert --poses " + kitti.string() + " --pose-format kitti"), std::string::npos) << r.out;
     r = run(mapExe() + roomRawlog().string() + " -o " + out.string() + " -s pndt-map.pose_format=kiti");
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.out.find("kiti"), std::string::npos) << r.out;

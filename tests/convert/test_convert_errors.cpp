@@ -252,6 +252,12 @@ TEST_F(ConvertErrors, BadOptionValues)
         EXPECT_TRUE(contains(r.err, option + ": foo not in")) << r.err;
         EXPECT_FALSE(fs::exists(out)) << option;
     }
+    // Options of --poses FILE without it: taken and ignored before (a sequence's own robot
+    // poses mapped as camera poses, exit 0).
+    for (const auto& [option, value] : std::vector<std::pair<std::string, std::string>>{
+             {"--pose-frame", "robot"}, {"--pose-match", "index"}, {"--pose-time-offset", "10"},
+             {"--pose-index-offset", "1"}})
+        expectFailure(runConvert({in, "-o", out, option, value}), out, {option + " given without --poses FILE"});
 }
 
 // A rawlog holds millimetres in 16 bits: a depth scale that puts the depths out of that range
@@ -285,4 +291,32 @@ TEST_F(ConvertErrors, NicrWithSeveralSequencesNeedsOne)
     const std::string js = path("o/s.json");
     const RunResult r = runConvert({root, "-o", out, "--sequence", "scene0000_00", "-q"});
     EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
+// pndt-rawlog-preview took --up unchecked: "0 0 0" or NaN failed after mapping, in lookAt
+// ("viewing direction parallel to the up vector"), naming no option, with a PNG written.
+TEST_F(ConvertErrors, RawlogPreviewChecksItsOptionsBeforeReading)
+{
+    const std::string in = makeRedwoodFolder(folder("redwood"), 2);
+    const std::string rawlog = path("seq.rawlog");
+    ASSERT_EQ(runConvert({in, "-o", rawlog, "-q"}).exit_code, 0);
+    for (const auto& [args, message] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+             {{"--up", "0", "0", "0"}, "--up: \"0 0 0\" is not a direction"},
+             {{"--up", "nan", "0", "1"}, "--up: \"nan 0 1\" is not a direction"},
+             {{"--elevation", "90"}, "--elevation: 90 is not an angle above the horizon"},
+             {{"--tol-abs", "-1"}, "--tol-abs / --tol-rel"}})
+    {
+        std::vector<std::string> a{rawlog, "-o", path("pv/p"), "-q"};
+        a.insert(a.end(), args.begin(), args.end());
+        const RunResult r = runExe(PNDT_PREVIEW_EXE, a);
+        EXPECT_EQ(r.exit_code, 1) << message;
+        EXPECT_TRUE(contains(r.err, "pndt-rawlog-preview: error: " + message)) << r.err;
+        EXPECT_FALSE(fs::exists(path("pv/p_first_camera.png"))) << message;
+        EXPECT_FALSE(fs::exists(path("pv/p_overview.png"))) << message;
+    }
+    // A valid --up still maps and writes both views.
+    const RunResult ok = runExe(PNDT_PREVIEW_EXE, {rawlog, "-o", path("pv/p"), "-q", "--up", "0", "-1", "0"});
+    EXPECT_EQ(ok.exit_code, 0) << ok.err;
+    EXPECT_TRUE(fs::exists(path("pv/p_first_camera.png")));
+    EXPECT_TRUE(fs::exists(path("pv/p_overview.png")));
 }

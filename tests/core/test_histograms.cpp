@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 #include <pndt/instance_rules.h>
 
+#include <random>
+
 using namespace pndt;
 using InstanceHist = InstanceHistogram;
 
@@ -69,6 +71,65 @@ TEST(InstanceRules, IsInTopZBoundaryIsInclusive)
     h.add(2, 2.f);
     EXPECT_TRUE(isInTopZ(h, 2, 0.8));
     EXPECT_FALSE(isInTopZ(h, 2, 0.75));  // needs 2.5
+}
+
+// Weights whose float sum rounds up: the entries hold exactly 1 - theta_b of the
+// exact total (c = (a + b) / 4 exactly), so each is in the top set. With the
+// total summed in float (as h.sum()), three of these cases fell out.
+TEST(InstanceRules, IsInTopZHoldsAnEntryOfExactlyOneMinusThetaBWhateverTheFloatSum)
+{
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<float> U(1.f, 50.f);
+    int exact_cases = 0, float_sum_rounded_up = 0;
+    for (int k = 0; k < 200000 && float_sum_rounded_up < 3; ++k)
+    {
+        float a = U(rng), b = U(rng);
+        if (a < b) std::swap(a, b);
+        const float c = float((double(a) + double(b)) / 4.0);
+        if (double(c) * 4.0 != double(a) + double(b) || !(c < b)) continue;
+        InstanceHist h;
+        h.add(1, a);
+        h.add(2, b);
+        h.add(3, c);
+        ++exact_cases;
+        if (double(h.sum()) > double(a) + double(b) + double(c)) ++float_sum_rounded_up;
+        EXPECT_TRUE(isInTopZ(h, 3, 0.8)) << a << " " << b << " " << c;
+    }
+    EXPECT_GE(float_sum_rounded_up, 3) << "no case where the float sum rounds up (of " << exact_cases << ")";
+}
+
+TEST(InstanceRules, IsInTopZWithThetaBZeroHoldsTheStrongestEntry)
+{
+    InstanceHist h;  // float sum 10, the double sum of the entries 9.99999988
+    h.add(1, 5.f);
+    h.add(2, 3.1f);
+    h.add(3, 1.9f);
+    EXPECT_TRUE(isInTopZ(h, 1, 0.0));
+    EXPECT_FALSE(isInTopZ(h, 3, 0.0));  // 1.9 of 10: only the strongest holds all of it
+}
+
+// A stuff share of exactly theta_st (wall + floor = 9 chair exactly) is no thing,
+// also where the float sums rounded it to just below 0.9.
+TEST(InstanceRules, IsThingAtAStuffShareOfExactlyThetaStWhateverTheFloatSums)
+{
+    const ClassSet classes = ClassSet::nyuv2_40();
+    std::mt19937 rng(2);
+    std::uniform_real_distribution<float> U(1.f, 50.f);
+    int exact_cases = 0, float_share_below = 0;
+    for (int k = 0; k < 400000 && float_share_below < 3; ++k)
+    {
+        const float wall = U(rng), floor = U(rng);
+        const float chair = float((double(wall) + double(floor)) / 9.0);
+        if (double(chair) * 9.0 != double(wall) + double(floor)) continue;
+        LabelRecord r;
+        r.semantic.add(1, wall);
+        r.semantic.add(2, floor);
+        r.semantic.add(5, chair);
+        ++exact_cases;
+        if (double(stuffMass(r, classes)) / double(r.semantic.sum()) < 0.9) ++float_share_below;
+        EXPECT_FALSE(isThing(r, classes, 0.9)) << wall << " " << floor << " " << chair;
+    }
+    EXPECT_GE(float_share_below, 3) << "no case where the float share falls below 0.9 (of " << exact_cases << ")";
 }
 
 TEST(InstanceRules, IsThingUsesTheStuffShare)

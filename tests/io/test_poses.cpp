@@ -293,6 +293,12 @@ TEST_F(PoseFiles, MalformedRedwoodLog)
     EXPECT_INPUT_ERROR(readRedwoodLog(write("last.log", "0 0 1\n1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 1 1\n")), "last.log", "line 5", "0 0 0 1");
     EXPECT_INPUT_ERROR(readRedwoodLog(write("hdr.log", "0 0\n1 0 0 0\n")), "hdr.log", "line 1", "header");
     EXPECT_INPUT_ERROR(readRedwoodLog(write("rot.log", "0 0 1\n1 0 0 0\n0 1.5 0 0\n0 0 1 0\n0 0 0 1\n")), "rot.log", "line 2", "orthonormal");
+    // A block left out (frame 1 missing): frame 2's pose was read as frame 1's, and so on.
+    const std::string id = "1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n";
+    EXPECT_INPUT_ERROR(readRedwoodLog(write("gap.log", "0 0 1\n" + id + "2 2 3\n" + id)), "gap.log", "line 6",
+                       "block 1 of the file has frame id 2", "a frame missing or out of order");
+    EXPECT_INPUT_ERROR(readRedwoodLog(write("order.log", "1 1 2\n" + id + "0 0 1\n" + id)), "order.log", "line 1",
+                       "block 0 of the file has frame id 1");
 }
 
 TEST_F(PoseFiles, MissingFileAndMalformedJson)

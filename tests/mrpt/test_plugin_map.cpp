@@ -43,6 +43,20 @@ mrpt::maps::CMultiMetricMap multiMapFrom(const std::string& ini)
     mm.setListOfMaps(inits);
     return mm;
 }
+
+/// What building a map from `ini` throws, or "no error".
+std::string message(const std::string& ini)
+{
+    try
+    {
+        multiMapFrom(ini);
+        return "no error";
+    }
+    catch (const std::exception& e)
+    {
+        return e.what();
+    }
+}
 }  // namespace
 
 TEST(PluginIni, CMultiMetricMapBuildsTheMapFromAnIniString)
@@ -109,17 +123,6 @@ TEST(PluginIni, UnknownOrMalformedKeysAreErrorsNamingThem)
     }
     // What MRPT prints keeps the section whole: it reads "[...]" in a message as a source
     // location ("Location: config [MAP_PanopticNDTMap_00_creationOpts", the rest lost).
-    const auto message = [&](const std::string& text) -> std::string {
-        try
-        {
-            multiMapFrom(text);
-            return "no error";
-        }
-        catch (const std::exception& e)
-        {
-            return e.what();
-        }
-    };
     EXPECT_NE(message(ini).find("config section 'MAP_PanopticNDTMap_00_creationOpts': unknown key 'voxel_sise'"),
               std::string::npos)
         << message(ini);
@@ -146,6 +149,39 @@ TEST(PluginIni, UnknownOrMalformedKeysAreErrorsNamingThem)
     theta.replace(theta.find("theta_z=0.4"), 11, "theta_z=2.0");
     EXPECT_NE(message(theta).find("map option 'theta_z' must be between 0 and 1"), std::string::npos)
         << message(theta);
+}
+
+// A class set of one's own: its count, class 0 and names are checked, naming the key (256
+// classes said only "a class set needs 1..255 classes"; class 0 "road" and two classes named
+// "c5" were taken).
+TEST(PluginIni, AClassSetOfOnesOwnIsCheckedNamingTheKey)
+{
+    const auto withClasses = [&](const std::string& names, const std::string& stuff) {
+        std::string ini = kIni;
+        ini.replace(ini.find("use_ndt=true"), 12,
+                    "use_ndt=true\nclass_names=" + names + (stuff.empty() ? "" : "\nstuff_classes=" + stuff));
+        return ini;
+    };
+    const std::string key = "config section 'MAP_PanopticNDTMap_00_creationOpts', key 'class_names': ";
+    std::string many = "void";
+    for (int i = 1; i < 256; ++i) many += ",c" + std::to_string(i);
+    EXPECT_NE(message(withClasses(many, "")).find(key + "a class set holds 1 to 255 classes (class 0 = void), not 256"),
+              std::string::npos)
+        << message(withClasses(many, ""));
+    EXPECT_NE(message(withClasses("road,wall,chair", "road,wall")).find(key + "class 0 must be 'void'"),
+              std::string::npos);
+    EXPECT_NE(message(withClasses("void,wall,c5,chair,c5", "")).find(key + "class name 'c5' is given twice (classes 2 "
+                                                                         "and 4)"),
+              std::string::npos)
+        << message(withClasses("void,wall,c5,chair,c5", ""));
+    // A good one is read, void stuff even when stuff_classes leaves it out.
+    auto mm = multiMapFrom(withClasses("void,wall,floor,chair,table", "wall,floor"));
+    const ClassSet& c = mm.mapByClass<PanopticNDTMap>()->core().options().classes;
+    ASSERT_EQ(c.size(), 5u);
+    EXPECT_FALSE(c.isThing(0));
+    EXPECT_FALSE(c.isThing(1));
+    EXPECT_TRUE(c.isThing(3));
+    EXPECT_EQ(c.find("table"), 4);
 }
 
 TEST(PluginPose, CameraConventionAgreesWithMrptUnprojection)

@@ -227,6 +227,24 @@ TEST(PndtEvalApp, BadInputIsNamed)
     r = run(fx.map_file + " --gt-ply " + away);
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.out.find("the map labels only 0.0 % of the 326 GT points"), std::string::npos) << r.out;
+    // A map of another class set was scored as NYUv2-40 (its "things" by the benchmark's table).
+    {
+        const ClassSet nyu = ClassSet::nyuv2_40();
+        std::vector<ClassSet::Class> own;
+        for (uint32_t i = 0; i < nyu.size(); ++i) own.push_back({nyu.name(i), nyu.isThing(i) && i != 5});
+        MapOptions o;
+        o.classes = ClassSet(own);
+        auto m = PanopticNDTMap::Create(o);
+        m->core().integrate(labelledWall(), Pose::Identity());
+        const std::string other = (fx.dir / "other_classes.pndt.gz").string();
+        saveArchive(*m, other);
+        r = run(other + " --gt-ply " + fx.writePly("gt.ply", true));
+        EXPECT_EQ(r.code, 1);
+        EXPECT_NE(r.out.find(other + ": the map's class set is not the one of the benchmark table 'nyuv2_40' (class 5 "
+                                     "is 'chair' (stuff) where the benchmark has 'chair' (thing))"),
+                  std::string::npos)
+            << r.out;
+    }
     // A folder that is not a pndt-map output; a missing map.
     r = run(fx.dir.string() + " --gt-ply " + away);
     EXPECT_NE(r.out.find("no index.json"), std::string::npos) << r.out;

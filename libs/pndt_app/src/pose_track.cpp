@@ -73,6 +73,14 @@ bool PoseTrack::addRobotPose(const mrpt::obs::CObservationRobotPose& p)
 PoseTrack PoseTrack::fromFile(const std::string& path, io::PoseFormat format, std::optional<PoseFrame> frame,
                               double max_gap)
 {
+    // A stampless file's made-up stamps (index / 30 Hz) would be interpolated against the
+    // rawlog's real ones: frames skipped or mapped with the poses of other frames.
+    if (io::isStampless(format))
+        throw std::runtime_error(fmt::format(
+            "{}: '{}' pose files hold no stamps, and pndt-map matches poses to frames by time; write them "
+            "into the rawlog with pndt-convert --poses {} --pose-format {} (frame i takes pose i), or give a "
+            "stamped format (tum, rtabmap1, rtabmap10, rtabmap11, nicr)",
+            path, io::toString(format), path, io::toString(format)));
     auto poses = io::readPoseFile(path, format);
     return PoseTrack(std::move(poses), frame.value_or(defaultPoseFrame(format)), max_gap, path);
 }

@@ -8,7 +8,15 @@ namespace pndt
 ClassSet::ClassSet(std::vector<Class> classes) : classes_(std::move(classes))
 {
     if (classes_.empty() || classes_.size() > 255)
-        throw std::invalid_argument("a class set needs 1..255 classes (class 0 = void)");
+        throw std::invalid_argument("a class set holds 1 to 255 classes (class 0 = void), not " +
+                                    std::to_string(classes_.size()));
+    // Names are how configs, queries and reports find a class: two of one name made one
+    // "class" of two ids (instances.json listed both under it, a query counted one).
+    for (size_t i = 0; i < classes_.size(); ++i)
+        for (size_t j = 0; j < i; ++j)
+            if (classes_[i].name == classes_[j].name)
+                throw std::invalid_argument("class name '" + classes_[i].name + "' is given twice (classes " +
+                                            std::to_string(j) + " and " + std::to_string(i) + ")");
 }
 
 ClassSet ClassSet::nyuv2_40()

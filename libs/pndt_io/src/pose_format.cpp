@@ -52,6 +52,12 @@ std::string toString(PoseFormat format)
     return "unknown";
 }
 
+bool isStampless(PoseFormat f)
+{
+    using F = PoseFormat;
+    return f == F::Rtabmap0 || f == F::Rtabmap2 || f == F::Rtabmap4 || f == F::Kitti || f == F::Redwood;
+}
+
 std::vector<StampedPose> readPoseFile(const std::string& path, PoseFormat format,
                                       const PoseReadOptions& options, PoseReadReport* report)
 {

@@ -1,5 +1,5 @@
-// Redwood / Open3D trajectory `.log`: per frame a header line `id id n` and 4 matrix rows
-// (camera-to-world, optical axes).
+// Redwood / Open3D trajectory `.log`: per frame a header line `id id n` (id = the frame: block i
+// has id i) and 4 matrix rows (camera-to-world, optical axes).
 #include "redwood_log.h"
 
 #include "pose_math.h"
@@ -46,6 +46,13 @@ std::vector<RedwoodBlock> readRedwoodLogBlocks(const std::string& path, double f
         if (!detail::parseInt64(tok[0], sp.id))
             failLine(path, header_line,
                      fmt::format("block header value '{}' is not an integer", tok[0]));
+        // Frame i is block i (Open3D writes `i i i+1`): a block whose id is not its place in the
+        // file means a frame missing or out of order, which would shift every later pose.
+        if (sp.id != block)
+            failLine(path, header_line,
+                     fmt::format("block {} of the file has frame id {} (header '{} {} {}'): a frame missing or out "
+                                 "of order? Frame i must be the i-th block",
+                                 block, sp.id, tok[0], tok[1], tok[2]));
         double m[16];
         size_t first_row_line = 0;
         for (int r = 0; r < 4; ++r)

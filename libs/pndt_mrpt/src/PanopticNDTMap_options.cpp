@@ -41,14 +41,28 @@ ClassSet readClassSet(ConfigSection& s)
     }
     const auto list = splitList(names);
     const auto stuff_list = splitList(stuff.empty() ? "void" : stuff);
+    // Class 0 is read as "no prediction" wherever labels are: a set whose class 0 is a real
+    // class ("road") lost that class without a word.
+    if (list.empty() || list[0] != "void")
+        throw std::invalid_argument(fmt::format("config section '{}', key 'class_names': class 0 must be 'void' (no "
+                                                "prediction), not '{}'",
+                                                s.name(), list.empty() ? std::string() : list[0]));
     std::vector<ClassSet::Class> classes;
     for (const auto& n : list)
         classes.push_back({n, std::find(stuff_list.begin(), stuff_list.end(), n) == stuff_list.end()});
+    classes[0].is_thing = false;  // void is stuff whether stuff_classes lists it or not
     for (const auto& n : stuff_list)
         if (std::find(list.begin(), list.end(), n) == list.end())
             throw std::invalid_argument(
                 fmt::format("config section '{}', key 'stuff_classes': '{}' is not in class_names", s.name(), n));
-    return ClassSet(std::move(classes));
+    try
+    {
+        return ClassSet(std::move(classes));
+    }
+    catch (const std::invalid_argument& e)
+    {
+        throw std::invalid_argument(fmt::format("config section '{}', key 'class_names': {}", s.name(), e.what()));
+    }
 }
 
 const char* rangeKindName(RangeKind k) { return k == RangeKind::Z ? "z" : "ray"; }

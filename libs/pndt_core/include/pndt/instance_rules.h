@@ -38,27 +38,45 @@ inline uint16_t semanticArgmax(const LabelRecord& r)
 }
 
 /// isthing(v): the stuff share of h^L is below theta_st. A voxel without
-/// semantic mass is not a thing.
+/// semantic mass is not a thing. Both masses are summed in double: float sums
+/// round, and a share of exactly theta_st came out just below it (a thing).
 inline bool isThing(const LabelRecord& r, const ClassSet& classes, double theta_st,
                     const SemanticSpill* spill = nullptr)
 {
-    const float sum = semanticMass(r, spill);
-    return sum > 0 && double(stuffMass(r, classes, spill)) / double(sum) < theta_st;
+    double sum = 0, stuff = 0;
+    for (int j = 0, n = r.semantic.size(); j < n; ++j)
+    {
+        const double w = r.semantic.weight(j);
+        sum += w;
+        if (!classes.isThing(r.semantic.ids[j])) stuff += w;
+    }
+    if (spill)
+        for (const auto& e : spill->entries)
+        {
+            sum += e.weight;
+            if (!classes.isThing(e.cls)) stuff += e.weight;
+        }
+    return sum > 0 && stuff / sum < theta_st;
 }
 
 /// isintopz(v, z): z belongs to the highest-weight entries that together hold at
 /// least theta_b of the mass, i.e. the ascending cumulative sum up to and
 /// including z's weight (all entries weighing <= w(z)) is >= (1 - theta_b) of it.
+/// The total is summed in double as the cumulative sum is: against the float
+/// sum, an entry holding exactly 1 - theta_b fell out when that sum rounded up.
 inline bool isInTopZ(const InstanceHistogram& h, uint32_t z, double theta_b)
 {
     const int i = h.indexOf(z);
-    const float sum = h.sum();
-    if (i < 0 || sum <= 0) return false;
+    if (i < 0) return false;
     const float wz = h.weight(i);
-    double cum = 0;
+    double cum = 0, total = 0;
     for (int j = 0, n = h.size(); j < n; ++j)
-        if (h.weight(j) <= wz) cum += h.weight(j);
-    return cum >= (1.0 - theta_b) * double(sum);
+    {
+        const float w = h.weight(j);
+        total += w;
+        if (w <= wz) cum += w;
+    }
+    return total > 0 && cum >= (1.0 - theta_b) * total;
 }
 
 /// pthing(v): a thing voxel that saw instances often enough relative to its

@@ -78,7 +78,7 @@ struct MapOptions
     double theta_b = 0.8;   ///< top-z mass for back-projection
     double theta_m = 0.2;   ///< IoU above which a predicted instance is matched
     double theta_n = 0.1;   ///< IoU at or below which it gets a new id
-    double theta_o = 0.25;  ///< n^Z/n^L above which a thing voxel takes its instance
+    double theta_o = 0.25;  ///< n^Z/n^L at or above which a thing voxel takes its instance
     /// Which voxels vote for a map instance's class (Eq. 9); see InstanceClassVoxels.
     InstanceClassVoxels instance_class_voxels = InstanceClassVoxels::PanopticThing;
     /// h^L keeps at most LabelRecord::kSemanticCapacity (8) classes in the voxel

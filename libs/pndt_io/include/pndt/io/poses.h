@@ -106,6 +106,9 @@ struct PoseReadReport
 PoseFormat parsePoseFormat(const std::string& name);
 /// Canonical name accepted by parsePoseFormat().
 std::string toString(PoseFormat format);
+/// True for the formats whose poses carry no stamp (rtabmap0/2/4, kitti, redwood): their t is
+/// made up from the index (index / frame_rate_hz), so they match frames by index, not by time.
+bool isStampless(PoseFormat format);
 
 /// Reads any supported format (dispatches to the functions below).
 std::vector<StampedPose> readPoseFile(const std::string& path, PoseFormat format,
