@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
+#include <pndt/app/world_up.h>
 #include <pndt/io/intrinsics.h>
 #include <pndt/io/npz.h>
 #include <pndt/io/pose_interpolator.h>
@@ -265,6 +266,16 @@ size_t ConvertReport::skippedTotal() const
     return n;
 }
 
+Eigen::Vector3d parseUpDirection(const std::string& text, const std::string& option)
+{
+    std::istringstream in(text);
+    Eigen::Vector3d v;
+    std::string rest;
+    if (!(in >> v.x() >> v.y() >> v.z()) || (in >> rest) || !v.allFinite() || v.norm() < 1e-9)
+        throw InputError(fmt::format("{} must be three numbers \"x y z\", not all zero (got '{}')", option, text));
+    return v.normalized();
+}
+
 mrpt::poses::CPose3D parseSensorPose(const std::string& text)
 {
     std::istringstream in(text);
@@ -348,7 +359,15 @@ ConvertReport convertSequence(const ConvertOptions& o, const ProgressFn& progres
     if (labels == "model" && o.model.empty()) throw InputError("--labels model needs --model FILE");
     if (labels != "model" && !o.model.empty())
         throw InputError(fmt::format("--model labels every frame; it cannot be combined with --labels {}", labels));
-    if (!o.up_world.empty() && o.model.empty()) throw InputError("--up is for the segmentation front-end (--model)");
+    if (!o.up_world.empty() && o.model.empty() && !o.level)
+        throw InputError("--up is for the segmentation front-end (--model) and --level");
+    std::optional<Pose> level;  // source world -> levelled world, set at the first pose without --up
+    if (o.level && !o.up_world.empty())
+    {
+        const Eigen::Vector3d up = parseUpDirection(o.up_world);
+        level = app::levellingRotation(up);
+        report.levelled_up = up;
+    }
     if (report.kind != "nicr" && labels != "none" && labels != "model")
         throw InputError(fmt::format("--labels {}: only nicr-scene-analysis-datasets folders carry labels", labels));
     if (labels == "predictions" && o.predictions_dir.empty())
@@ -453,7 +472,9 @@ ConvertReport convertSequence(const ConvertOptions& o, const ProgressFn& progres
         if (ec) throw std::runtime_error(fmt::format("{}: cannot create folder: {}", parent.string(), ec.message()));
     }
     std::optional<FrontEnd> front_end;
-    if (labels == "model") front_end.emplace(o.model, o.up_world, report);
+    // In a levelled world the front-end's up is +z.
+    if (labels == "model") front_end.emplace(o.model, level ? std::string("0 0 1") : o.up_world, report);
+    app::CameraUpTally camera_up;
 
     const JpegSerialisation jpeg(o.color_jpeg_quality);
     RawlogFrameWriter writer(o.output, o.rgbd_label, o.gz_level);
@@ -499,6 +520,13 @@ ConvertReport convertSequence(const ConvertOptions& o, const ProgressFn& progres
             skip(reason, rec, "");
             continue;
         }
+        if (o.level && !level)
+        {
+            report.levelled_up = app::cameraUp(*T);
+            level = app::levellingRotation(*report.levelled_up);
+        }
+        if (level) T = *level * *T;
+        camera_up.add(*T);
 
         PanopticFrame pf;
         io::RgbdFrame f;
@@ -579,6 +607,10 @@ ConvertReport convertSequence(const ConvertOptions& o, const ProgressFn& progres
         if (2 * lost > depth_pixels) throw InputError(fmt::format("{}: {}; nothing written to {}", o.input, what, o.output));
         report.notes.push_back(what);
     }
+    if (report.levelled_up)
+        report.level_degrees = app::angleDegrees(*report.levelled_up, Eigen::Vector3d::UnitZ());
+    else if (const auto note = camera_up.notZUpNote("--level writes the rawlog in a world turned to z up"))
+        report.notes.push_back(*note);
     writer.commit();
 
     std::error_code ec;
@@ -606,6 +638,9 @@ std::string formatReport(const ConvertReport& r, const ConvertOptions& o)
     for (const auto& [reason, n] : r.skipped) s += fmt::format("    {:>6}  {}\n", n, reason);
     for (const auto& e : r.skip_examples) s += fmt::format("    e.g. {}\n", e);
     s += fmt::format("  poses              : {}\n", r.pose_source);
+    if (r.levelled_up)
+        s += fmt::format("  world levelled     : up {} turned to +z ({:.1f} degrees)\n",
+                         app::directionText(*r.levelled_up, 3), r.level_degrees);
     if (r.non_finite_poses) s += fmt::format("  non-finite poses   : {} (ignored)\n", r.non_finite_poses);
     for (const auto& n : r.notes) s += fmt::format("  note: {}\n", n);
     if (r.frames_segmented)
@@ -646,6 +681,9 @@ std::string reportJson(const ConvertReport& r, const ConvertOptions& o)
     j["skip_examples"] = r.skip_examples;
     j["pose_source"] = r.pose_source;
     j["non_finite_poses"] = r.non_finite_poses;
+    if (r.levelled_up)
+        j["levelled"] = {{"up", {r.levelled_up->x(), r.levelled_up->y(), r.levelled_up->z()}},
+                         {"degrees", r.level_degrees}};
     j["notes"] = r.notes;
     if (r.frames_segmented)
     {

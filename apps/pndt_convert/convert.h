@@ -10,6 +10,7 @@
 #pragma once
 
 #include <mrpt/poses/CPose3D.h>
+#include <Eigen/Core>
 
 #include <cstdint>
 #include <functional>
@@ -43,6 +44,11 @@ struct ConvertOptions
     /// Gravity up in the pose's world frame ("x y z"), for the detector's floor / wall / ceiling;
     /// empty = the camera's −y (an upright camera).
     std::string up_world;
+    /// Write the poses in a world whose z is up: the world is turned about its origin so that
+    /// up_world (or, without it, the first written frame's camera up, -y of its optical frame)
+    /// becomes +z (the floor plan, pndt-nav's grid and MRPT's 2D tools take world z as up).
+    /// A ground truth in the source's world no longer lines up with the map.
+    bool level = false;
 
     // --- all formats
     std::optional<double> depth_units_per_metre;  ///< default: the format's (mm; TUM 5000)
@@ -104,6 +110,9 @@ struct ConvertReport
     std::vector<std::string> skip_examples;  ///< first few skipped frames with their reason
     size_t non_finite_poses = 0;             ///< in the pose source (ignored)
     std::vector<std::string> notes;          ///< e.g. why colour was not embedded
+    /// With `level`: the source world's up that became +z, and the turn in degrees.
+    std::optional<Eigen::Vector3d> levelled_up;
+    double level_degrees = 0;
     // --- segmentation front-end (with --model)
     std::string segmenter;                  ///< describe() of the front-end
     size_t frames_segmented = 0;
@@ -127,6 +136,10 @@ ConvertReport convertSequence(const ConvertOptions& options, const ProgressFn& p
 std::string formatReport(const ConvertReport& r, const ConvertOptions& o);
 /// The same as JSON text.
 std::string reportJson(const ConvertReport& r, const ConvertOptions& o);
+
+/// "x y z" → unit direction; throws InputError naming `option` unless three finite numbers, not
+/// all zero.
+Eigen::Vector3d parseUpDirection(const std::string& text, const std::string& option = "--up");
 
 /// "x y z yaw pitch roll" (metres, degrees) → pose; throws InputError on anything else.
 mrpt::poses::CPose3D parseSensorPose(const std::string& text);

@@ -3,28 +3,15 @@
 #include <fmt/format.h>
 
 #include <set>
-#include <sstream>
 
 namespace pndt::convert
 {
-namespace
-{
-Eigen::Vector3d parseUp(const std::string& text)
-{
-    std::istringstream in(text);
-    Eigen::Vector3d v;
-    std::string rest;
-    if (!(in >> v.x() >> v.y() >> v.z()) || (in >> rest) || !v.allFinite() || v.norm() < 1e-9)
-        throw InputError(fmt::format("--up must be three numbers \"x y z\", not all zero (got '{}')", text));
-    return v.normalized();
-}
-}  // namespace
 
 FrontEnd::FrontEnd(const std::string& model_description, const std::string& up_world, ConvertReport& report)
     : classes_(ClassSet::nyuv2_40()), report_(report)
 {
     seg::SegmenterOptions so;
-    if (!up_world.empty()) so.up_world = parseUp(up_world);
+    if (!up_world.empty()) so.up_world = parseUpDirection(up_world);
     segmenter_ = seg::loadSegmenter(model_description, classes_, so);
     report_.segmenter = segmenter_->describe();
 }

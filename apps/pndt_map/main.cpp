@@ -19,6 +19,7 @@
 #include <pndt/app/progress_bar.h>
 #include <pndt/app/read_ahead_stream.h>
 #include <pndt/app/short_term_maps.h>
+#include <pndt/app/world_up.h>
 #include <pndt/io/atomic_file.h>
 #include <pndt/mrpt/observation_pairer.h>
 
@@ -247,6 +248,7 @@ int main(int argc, char** argv)
             return false;
         };
         std::optional<PairedFrame> last;
+        CameraUpTally camera_up;  // the pictures and pndt-nav take world z as up: said when it is not
         const auto atFrameLimit = [&] { return max_frames > 0 && mapped >= uint64_t(max_frames); };
         // The share of the work done: of the input read, or of --max-frames when that ends the run first.
         const auto done_share = [&](double input_read) {
@@ -267,6 +269,7 @@ int main(int argc, char** argv)
                                maps.index().back().file, settings.short_term.max_voxels);
                 ++mapped;
                 labelled += p.labelled;
+                camera_up.add(p.T_world_cam);
                 // Its images take the next scan (a folder's frames are loaded afresh, never paired).
                 if (last && stream) pairer.recycle(std::move(*last));
                 last = std::move(p);
@@ -424,6 +427,8 @@ int main(int argc, char** argv)
                            out_dir + "/view_overview");
 
         writeFloorPlan(core, out_dir + "/floor_plan.png");
+        if (const auto note = camera_up.notZUpNote("pndt-convert --level writes a rawlog in a world turned to z up"))
+            fmt::print(stderr, "pndt-map: note: {}\n", *note);
         if (!screenshot.empty()) writeScreenshot(*final_map, screenshot);
         if (!mesh_screenshot.empty()) writeMeshScreenshot(*final_map, mesh_screenshot);
         const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();

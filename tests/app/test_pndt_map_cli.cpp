@@ -137,6 +137,27 @@ TEST(PndtMapCli, TheOverviewHasACameraOfItsOwnWhateverTheFramesIntrinsics)
     EXPECT_GT(cv::countNonZero(over), 640 * 480 / 20) << "the overview shows the map";
 }
 
+// A world whose z is not up (Redwood's first camera) gave a floor plan that is a front view and
+// a pndt-nav grid on a wall, without a word: said now, with what to do.
+TEST(PndtMapCli, AWorldWhoseZIsNotUpIsSaid)
+{
+    const fs::path out = tempDir("not_z_up");
+    RunResult r = run(mapExe() + roomRawlog().string() + " -o " + (out / "z_up").string());
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_EQ(r.out.find("cameras' up points"), std::string::npos) << r.out;
+    Room room(8);
+    pndt::Pose turn = pndt::Pose::Identity();  // the room's +z becomes -y, as in a camera-centred y-down world
+    turn.linear() << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+    for (pndt::Pose& p : room.poses) p = turn * p;
+    room.writeRawlog((out / "y_down.rawlog").string(), 8);
+    r = run(mapExe() + (out / "y_down.rawlog").string() + " -o " + (out / "y_down").string());
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("pndt-map: note: the cameras' up points along world (0.00, -1.00, 0.00) on average"),
+              std::string::npos)
+        << r.out;
+    EXPECT_NE(r.out.find("pndt-convert --level writes a rawlog in a world turned to z up"), std::string::npos) << r.out;
+}
+
 TEST(PndtMapCli, RtabmapFormat11PosesGiveTheSameMapAsRawlogPoses)
 {
     const fs::path out = tempDir("rtabmap");
