@@ -18,7 +18,8 @@ PACKAGES=(
   libopenni2-dev                   # OpenNI2 RGB-D capture for pndt-live and its virtual camera driver
   libgtest-dev liboctomap-dev     # OctoMap, for the side-by-side benchmark
   libegl-mesa0 libgl1-mesa-dri     # off-screen rendering of 3D views (EGL, no display)
-  xvfb xauth                       # a virtual display for the interactive viewer
+  xvfb xauth x11-utils             # a virtual display for the interactive viewer (xwininfo: RawLogViewer test)
+  file                             # CPack's .deb dependency scan (dpkg-shlibdeps), the install_deb_consumer test
 )
 
 # PNDT_HARDENING=1 adds clang and libFuzzer for scripts/fuzz.sh and scripts/test_sanitized.sh

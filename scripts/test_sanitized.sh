@@ -11,7 +11,7 @@
 #            about 10 min of build and 8 of tests on 2 idle cores;
 #   ci       what CI runs (about 6 min on 2 idle cores): the fuzz build (clang, ASan + UBSan, the
 #            libraries that read outside data: core, sim, io, refine, mrpt) with their tests
-#            (tests/core, tests/io, tests/mrpt) run under the sanitizers, every fuzz target for
+#            (tests/core, tests/io, tests/mrpt, tests/sim) run under the sanitizers, every fuzz target for
 #            CI_FUZZ_SECONDS (default 10) on its committed seeds, and ThreadSanitizer on
 #            test_core_threads. Left to the full modes: the app, data, eval, seg, nav, live and
 #            refine suites under ASan (another hour of build), TSan of test_app / the live
@@ -105,7 +105,7 @@ fi
 
 if [ "$WHAT" = ci ]; then
     FUZZ_WITH_TESTS=1 scripts/fuzz.sh "${CI_FUZZ_SECONDS:-10}"
-    echo "== tests/core, tests/io, tests/mrpt under ASan + UBSan (build-fuzz)"
+    echo "== tests/core, tests/io, tests/mrpt, tests/sim under ASan + UBSan (build-fuzz, clang)"
     # Left out: NoAllocation.* (replaces operator new, which ASan owns), MrptTools.* and
     # MapObservation.Stock* (stock MRPT executables cannot load a clang-ASan plugin).
     ctest --test-dir build-fuzz --output-on-failure -j"$JOBS" --timeout 900 \

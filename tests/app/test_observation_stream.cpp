@@ -300,7 +300,10 @@ TEST(RawlogSequence, ReadsFilesInTurnSkipsRepeatedPosesAndNamesWhatIsWrong)
             got.emplace_back(o->GetRuntimeClass()->className, mrpt::Clock::toDouble(o->timestamp));
             EXPECT_GE(seq.progress(), last_progress);
             last_progress = seq.progress();
-            if (got.size() == 4) EXPECT_LT(seq.progress(), 0.75) << "one file of two read";
+            if (got.size() == 4)
+            {
+                EXPECT_LT(seq.progress(), 0.75) << "one file of two read";
+            }
         }
         const std::vector<std::pair<std::string, double>> expected = {
             {"mrpt::obs::CObservationRobotPose", 100.0}, {"mrpt::obs::CObservation3DRangeScan", 100.0},

@@ -378,8 +378,10 @@ bool cpuHasAvx2()
 
 #define PNDT_AVX512 __attribute__((target("avx512f,avx2,fma")))
 // GCC 12 warns of the undefined pass-through inside its own _mm512_max_ps (a false report).
+#if defined(__GNUC__) && !defined(__clang__)  // clang has no such warning (and warns of the pragma)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 
 /// exp8 in 16 lanes (the same operations).
 PNDT_AVX512 inline __m512 exp16(__m512 x)
@@ -640,7 +642,9 @@ bool cpuHasAvx512()
     static const bool yes = __builtin_cpu_supports("avx512f") && cpuHasAvx2();
     return yes;
 }
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
+#endif
 #endif
 
 }  // namespace

@@ -6,6 +6,11 @@
 // box at their height, so low furniture may stand under a window but a bookshelf
 // may not cover a picture. Small objects are placed afterwards on the top faces
 // ("surfaces") of tables, desks, cabinets and shelf boards.
+//
+// Random draws are never two arguments of one call: C++ leaves the order in which
+// arguments are evaluated open (GCC goes right to left, clang left to right), and a
+// clang build made other rooms from the same seed. Each draw is a named local, in
+// the order GCC drew them, so the documented scenes stay what they were.
 #include "pndt/sim/indoor_scene.h"
 
 #include <algorithm>
@@ -295,8 +300,12 @@ void addPictures(Ctx& c, int n)
     for (int k = 0; k < n; ++k)
     {
         const bool board = c.type == RoomType::Office && k == 0;
-        const Size3 size =
-            board ? Size3(0.02, 1.5, 1.0) : Size3(0.025, c.rng.uniform(0.35, 0.9), c.rng.uniform(0.3, 0.7));
+        Size3 size(0.02, 1.5, 1.0);
+        if (!board)
+        {
+            const double sz = c.rng.uniform(0.3, 0.7), sy = c.rng.uniform(0.35, 0.9);
+            size = Size3(0.025, sy, sz);
+        }
         const double z0 = board ? 0.95 : c.rng.uniform(1.25, 1.5);
         if (z0 + size.z() > c.L.room.sizes().z() - 0.1) continue;
         if (auto p = tryWall(c, size, z0, 0.0, 0.1))
@@ -396,7 +405,8 @@ void addStorage(Ctx& c, int n)
         if (kind == 0 || kind == 1)  // shelves / bookshelf
         {
             const bool book = kind == 0;
-            const Size3 size(0.35, c.rng.uniform(0.8, 1.3), book ? c.rng.uniform(1.6, 2.0) : c.rng.uniform(0.9, 1.3));
+            const double sz = book ? c.rng.uniform(1.6, 2.0) : c.rng.uniform(0.9, 1.3), sy = c.rng.uniform(0.8, 1.3);
+            const Size3 size(0.35, sy, sz);
             auto p = tryWall(c, size, 0.0, 0.02, 0.1);
             if (!p) continue;
             std::vector<double> tops;
@@ -452,7 +462,8 @@ bool addDiningGroup(Ctx& c, const Eigen::Vector2d& center, double yaw, bool allo
     const bool round = allow_round && c.rng.chance(0.35);
     constexpr double kWalk = 0.5, kChairReach = 0.6;
     const double r = c.rng.uniform(0.45, 0.6);
-    const Size3 size(c.rng.uniform(0.8, 1.0), c.rng.uniform(1.4, 1.9), 0.75);
+    const double sy = c.rng.uniform(1.4, 1.9), sx = c.rng.uniform(0.8, 1.0);
+    const Size3 size(sx, sy, 0.75);
     const Size3 group_size = round ? Size3(2 * (r + kChairReach), 2 * (r + kChairReach), 0.9)
                                    : Size3(size.x() + 2 * kChairReach, size.y() + 2 * kChairReach, 0.9);
     const auto spot = findSpot(c, center, yaw, group_size, kWalk);
@@ -577,8 +588,11 @@ bool addBedGroup(Ctx& c)
         addBlock(c.s, child(*p, {-0.5 * l + 0.3, side * 0.33, bed.z()}, c.rng.uniform(-0.15, 0.15)), c.id(),
                  Size3(0.35, 0.55, 0.14), nyu40::kPillow);
     if (c.rng.chance(0.5))
-        addBlock(c.s, child(*p, {0.5 * l - 0.4, c.rng.uniform(-0.3, 0.3), bed.z()}, c.rng.uniform(-0.5, 0.5)), c.id(),
+    {
+        const double yaw = c.rng.uniform(-0.5, 0.5), y = c.rng.uniform(-0.3, 0.3);
+        addBlock(c.s, child(*p, {0.5 * l - 0.4, y, bed.z()}, yaw), c.id(),
                  Size3(0.4, 0.5, 0.06), nyu40::kClothes);
+    }
     const Size3 ns(0.42, 0.45, 0.5);
     for (double side : {1.0, -1.0})
     {
@@ -609,8 +623,11 @@ void addDecor(Ctx& c, int plants, int floor_lamps, int bags, int poles)
         const Size3 size(0.2, 0.35, 0.4);
         // Reserve the footprint of the bag turned by up to 0.5 rad.
         if (auto p = tryWall(c, Size3(0.45, 0.45, 0.4), 0.0, 0.02, 0.05))
-            addBlock(c.s, child(*p, {0, 0, 0}, c.rng.uniform(-0.5, 0.5)), c.id(), size,
-                     c.rng.chance(0.6) ? nyu40::kBag : nyu40::kBox);
+        {
+            const auto cls = c.rng.chance(0.6) ? nyu40::kBag : nyu40::kBox;
+            const double yaw = c.rng.uniform(-0.5, 0.5);
+            addBlock(c.s, child(*p, {0, 0, 0}, yaw), c.id(), size, cls);
+        }
     }
     const double H = c.L.room.sizes().z();
     for (int k = 0; k < poles; ++k)
@@ -652,8 +669,9 @@ void addSmallObjects(Ctx& c, int n)
                 break;
             case 2:
             {
-                const Size3 b(c.rng.uniform(0.12, 0.3), c.rng.uniform(0.12, 0.3),
-                              std::min(s.headroom, c.rng.uniform(0.08, 0.25)));
+                const double bz = std::min(s.headroom, c.rng.uniform(0.08, 0.25)), by = c.rng.uniform(0.12, 0.3),
+                             bx = c.rng.uniform(0.12, 0.3);
+                const Size3 b(bx, by, bz);
                 if (auto p = spotOn(c, s, std::max(b.x(), b.y()) * 1.42, std::max(b.x(), b.y()) * 1.42))
                     addBlock(c.s, child(*p, {0, 0, 0}, yaw), c.id(), b, nyu40::kBox);
                 break;
@@ -690,7 +708,13 @@ void furnish(Ctx& c)
             addSofaGroup(c);
             addTvStand(c);
             addStorage(c, c.count(1.0 * big, 2.0 * big));
-            addDecor(c, c.count(0.5, 1.5), 1, c.count(0.0, 1.0), c.count(0.0, 0.6));
+            {
+                const int d_poles = c.count(0.0, 0.6);
+                const int d_bags = c.count(0.0, 1.0);
+                const int d_floor_lamps = 1;
+                const int d_plants = c.count(0.5, 1.5);
+                addDecor(c, d_plants, d_floor_lamps, d_bags, d_poles);
+            }
             addPictures(c, c.count(1.0, 3.0));
             addSmallObjects(c, c.count(2.0 * big, 8.0 * big));
             break;
@@ -700,7 +724,13 @@ void furnish(Ctx& c)
                 addDiningGroup(c, {0, 0}, c.L.room.sizes().x() > c.L.room.sizes().y() ? M_PI_2 : 0.0, false);
             addDesks(c, c.count(2.0 * big, 2.0 * big));
             addStorage(c, c.count(1.5 * big, 2.0 * big));
-            addDecor(c, c.count(0.5, 1.5), c.count(0.0, 1.0), c.count(0.0, 1.5), c.count(0.3, 0.8));
+            {
+                const int d_poles = c.count(0.3, 0.8);
+                const int d_bags = c.count(0.0, 1.5);
+                const int d_floor_lamps = c.count(0.0, 1.0);
+                const int d_plants = c.count(0.5, 1.5);
+                addDecor(c, d_plants, d_floor_lamps, d_bags, d_poles);
+            }
             addPictures(c, c.count(1.0, 2.0));
             addSmallObjects(c, c.count(3.0 * big, 10.0 * big));
             break;
@@ -709,7 +739,13 @@ void furnish(Ctx& c)
             addBedGroup(c);
             addStorage(c, c.count(1.0 * big, 2.0 * big));
             if (c.rng.chance(0.3 + 0.5 * c.clutter)) addDesks(c, 1);
-            addDecor(c, c.count(0.3, 1.0), c.count(0.0, 0.8), c.count(0.5, 1.5), 0);
+            {
+                const int d_poles = 0;
+                const int d_bags = c.count(0.5, 1.5);
+                const int d_floor_lamps = c.count(0.0, 0.8);
+                const int d_plants = c.count(0.3, 1.0);
+                addDecor(c, d_plants, d_floor_lamps, d_bags, d_poles);
+            }
             addPictures(c, c.count(1.0, 2.0));
             addSmallObjects(c, c.count(2.0 * big, 6.0 * big));
             break;
@@ -719,7 +755,13 @@ void furnish(Ctx& c)
                            c.L.room.sizes().x() > c.L.room.sizes().y() ? M_PI_2 : 0.0, true);
             addKitchenRun(c);
             addStorage(c, c.count(0.5 * big, 1.5 * big));
-            addDecor(c, c.count(0.5, 1.5), c.count(0.0, 1.0), c.count(0.0, 1.0), c.count(0.0, 0.6));
+            {
+                const int d_poles = c.count(0.0, 0.6);
+                const int d_bags = c.count(0.0, 1.0);
+                const int d_floor_lamps = c.count(0.0, 1.0);
+                const int d_plants = c.count(0.5, 1.5);
+                addDecor(c, d_plants, d_floor_lamps, d_bags, d_poles);
+            }
             addPictures(c, c.count(1.0, 2.0));
             addSmallObjects(c, c.count(3.0 * big, 8.0 * big));
             break;
@@ -741,7 +783,13 @@ void furnish(Ctx& c)
             addDesks(c, c.count(1.0, 2.0));
             addKitchenRun(c);
             addStorage(c, c.count(2.0, 4.0));
-            addDecor(c, c.count(1.0, 2.0), c.count(1.0, 1.0), c.count(0.5, 1.5), c.count(1.0, 1.0));
+            {
+                const int d_poles = c.count(1.0, 1.0);
+                const int d_bags = c.count(0.5, 1.5);
+                const int d_floor_lamps = c.count(1.0, 1.0);
+                const int d_plants = c.count(1.0, 2.0);
+                addDecor(c, d_plants, d_floor_lamps, d_bags, d_poles);
+            }
             addPictures(c, c.count(2.0, 3.0));
             addSmallObjects(c, c.count(6.0, 14.0));
             break;
