@@ -609,7 +609,8 @@ ConvertReport convertSequence(const ConvertOptions& o, const ProgressFn& progres
     }
     if (report.levelled_up)
         report.level_degrees = app::angleDegrees(*report.levelled_up, Eigen::Vector3d::UnitZ());
-    else if (const auto note = camera_up.notZUpNote("--level writes the rawlog in a world turned to z up"))
+    else if (const auto note = camera_up.notZUpNote(
+                 "--level writes the rawlog in a world turned to z up; with --up when the cameras do not stand upright"))
         report.notes.push_back(*note);
     writer.commit();
 

@@ -427,7 +427,9 @@ int main(int argc, char** argv)
                            out_dir + "/view_overview");
 
         writeFloorPlan(core, out_dir + "/floor_plan.png");
-        if (const auto note = camera_up.notZUpNote("pndt-convert --level writes a rawlog in a world turned to z up"))
+        if (const auto note = camera_up.notZUpNote(
+                "pndt-convert --level writes a rawlog in a world turned to z up; with --up when the cameras do not stand "
+                "upright"))
             fmt::print(stderr, "pndt-map: note: {}\n", *note);
         if (!screenshot.empty()) writeScreenshot(*final_map, screenshot);
         if (!mesh_screenshot.empty()) writeMeshScreenshot(*final_map, mesh_screenshot);

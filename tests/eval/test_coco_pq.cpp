@@ -52,7 +52,9 @@ Coco loadCoco()
 {
     std::ifstream in(kDir / "panoptic_examples.json");
     const json j = json::parse(in);
-    std::vector<pndt::ClassSet::Class> classes(201, {"unused", false});
+    // COCO's ids have gaps: placeholders with names of their own (a class set's names are unique).
+    std::vector<pndt::ClassSet::Class> classes;
+    for (int id = 0; id <= 200; ++id) classes.push_back({"unused " + std::to_string(id), false});
     classes[0] = {"void", false};
     std::vector<uint16_t> sem, ins;
     for (const json& c : j.at("categories"))
