@@ -475,6 +475,9 @@ ConvertReport convertSequence(const ConvertOptions& o, const ProgressFn& progres
     // In a levelled world the front-end's up is +z.
     if (labels == "model") front_end.emplace(o.model, level ? std::string("0 0 1") : o.up_world, report);
     app::CameraUpTally camera_up;
+    // The up of the poses' own frame: the robot's z with a sensor pose (the mount), else the
+    // camera's -y (the identity mount gives the same).
+    const Eigen::Vector3d up_in_camera = app::robotUpInCamera(o.sensor_pose);
 
     const JpegSerialisation jpeg(o.color_jpeg_quality);
     RawlogFrameWriter writer(o.output, o.rgbd_label, o.gz_level);
@@ -522,11 +525,14 @@ ConvertReport convertSequence(const ConvertOptions& o, const ProgressFn& progres
         }
         if (o.level && !level)
         {
-            report.levelled_up = app::cameraUp(*T);
+            // Without --up: the world axis nearest the first frame's up (a camera's own tilt
+            // is no part of the world's turn; a z-up world is left as it is).
+            report.level_observed = app::worldUp(*T, up_in_camera);
+            report.levelled_up = app::nearestAxis(*report.level_observed);
             level = app::levellingRotation(*report.levelled_up);
         }
         if (level) T = *level * *T;
-        camera_up.add(*T);
+        camera_up.add(*T, up_in_camera);
 
         PanopticFrame pf;
         io::RgbdFrame f;
@@ -639,9 +645,16 @@ std::string formatReport(const ConvertReport& r, const ConvertOptions& o)
     for (const auto& [reason, n] : r.skipped) s += fmt::format("    {:>6}  {}\n", n, reason);
     for (const auto& e : r.skip_examples) s += fmt::format("    e.g. {}\n", e);
     s += fmt::format("  poses              : {}\n", r.pose_source);
-    if (r.levelled_up)
-        s += fmt::format("  world levelled     : up {} turned to +z ({:.1f} degrees)\n",
-                         app::directionText(*r.levelled_up, 3), r.level_degrees);
+    if (r.levelled_up && r.level_degrees == 0)
+        s += fmt::format("  world levelled     : the first frame's up {} is nearest +z: not turned\n",
+                         app::directionText(r.level_observed.value_or(*r.levelled_up), 3));
+    else if (r.levelled_up)
+        s += fmt::format("  world levelled     : up {}{} turned to +z ({:.1f} degrees)\n",
+                         app::directionText(*r.levelled_up, 3),
+                         r.level_observed ? " (nearest the first frame's up " +
+                                                app::directionText(*r.level_observed, 3) + ")"
+                                          : std::string(),
+                         r.level_degrees);
     if (r.non_finite_poses) s += fmt::format("  non-finite poses   : {} (ignored)\n", r.non_finite_poses);
     for (const auto& n : r.notes) s += fmt::format("  note: {}\n", n);
     if (r.frames_segmented)

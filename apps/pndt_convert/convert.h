@@ -45,8 +45,9 @@ struct ConvertOptions
     /// empty = the camera's −y (an upright camera).
     std::string up_world;
     /// Write the poses in a world whose z is up: the world is turned about its origin so that
-    /// up_world (or, without it, the first written frame's camera up, -y of its optical frame)
-    /// becomes +z (the floor plan, pndt-nav's grid and MRPT's 2D tools take world z as up).
+    /// up_world (or, without it, the world axis nearest the first written frame's up: the robot's
+    /// z with a sensor_pose, else the camera's -y) becomes +z (the floor plan, pndt-nav's grid and
+    /// MRPT's 2D tools take world z as up). A world already z-up is not turned.
     /// A ground truth in the source's world no longer lines up with the map.
     bool level = false;
 
@@ -110,8 +111,10 @@ struct ConvertReport
     std::vector<std::string> skip_examples;  ///< first few skipped frames with their reason
     size_t non_finite_poses = 0;             ///< in the pose source (ignored)
     std::vector<std::string> notes;          ///< e.g. why colour was not embedded
-    /// With `level`: the source world's up that became +z, and the turn in degrees.
+    /// With `level`: the source world's up that became +z, and the turn in degrees; without
+    /// --up, the first frame's up it was taken from (levelled_up is its nearest world axis).
     std::optional<Eigen::Vector3d> levelled_up;
+    std::optional<Eigen::Vector3d> level_observed;
     double level_degrees = 0;
     // --- segmentation front-end (with --model)
     std::string segmenter;                  ///< describe() of the front-end

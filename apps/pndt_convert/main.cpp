@@ -45,8 +45,8 @@ int main(int argc, char** argv)
     g_seg->add_option("--up", o.up_world,
                       "gravity up \"x y z\" in the poses' world frame (detector planes, --level; default: camera -y)");
     g_seg->add_flag("--level", o.level,
-                    "write the poses in a world turned so that --up (default: the first frame's camera up) is +z: "
-                    "floor plans, pndt-nav and MRPT's 2D tools take world z as up");
+                    "write the poses in a world turned so that --up (default: the world axis nearest the first "
+                    "frame's up) is +z: floor plans, pndt-nav and MRPT's 2D tools take world z as up");
 
     auto* g_in = app.add_option_group("input");
     auto* depth_scale_opt = g_in->add_option("--depth-scale", depth_scale, "depth units per metre (default: 1000; TUM 5000)");

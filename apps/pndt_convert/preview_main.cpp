@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
+#include <pndt/app/map_outputs.h>
 
 #include <chrono>
 #include <filesystem>
@@ -51,9 +52,10 @@ int main(int argc, char** argv)
                                                      "not all zero)",
                                                      up_v[0], up_v[1], up_v[2]));
         }
-        if (!(elevation > 0 && elevation < 90))
-            throw std::runtime_error(fmt::format("--elevation: {} is not an angle above the horizon (0 to 90 degrees)",
-                                                 elevation));
+        if (!(elevation > 0 && elevation <= 90))  // 90: straight down
+            throw std::runtime_error(
+                fmt::format("--elevation: {} is not an angle above the horizon (more than 0, at most 90 degrees)",
+                            elevation));
         if (!(tol_abs >= 0 && std::isfinite(tol_abs)) || !(tol_rel >= 0 && std::isfinite(tol_rel)))
             throw std::runtime_error(
                 fmt::format("--tol-abs / --tol-rel: {} / {} are not tolerances (finite, >= 0)", tol_abs, tol_rel));
@@ -90,7 +92,8 @@ int main(int argc, char** argv)
         if (!parent.empty()) std::filesystem::create_directories(parent);
         writePng(both, png_first);
         const auto [hmin, hmax] = heightRange(core, up);
-        writePng(renderHeightView(core, overviewCamera(core, r.cameras, up, K, elevation), K, up, hmin, hmax),
+        const CameraIntrinsics K_over = app::overviewIntrinsics();  // the frames' camera may show nothing from there
+        writePng(renderHeightView(core, overviewCamera(core, r.cameras, up, K_over, elevation), K_over, up, hmin, hmax),
                  png_over);
 
         fmt::print("pndt-rawlog-preview: {}\n", input);

@@ -118,7 +118,9 @@ int main(int argc, char** argv)
     app.add_option("-c,--config", configs, ".ini files layered over the defaults (repeatable)");
     app.add_option("-s,--set", sets, "override: section.key=value (repeatable)");
     app.add_option("--poses", poses, "external pose file (sets pose_source=file)");
-    app.add_option("--pose-format", pose_format, "tum, rtabmap0/1/2/4/10/11, kitti, redwood, nicr");
+    app.add_option("--pose-format", pose_format,
+                   "tum, rtabmap1/10/11, nicr (by stamp); rtabmap0/2/4, kitti, redwood (no stamps: the k-th depth "
+                   "frame takes the k-th pose)");
     std::string clock_offset;
     app.add_option("--clock-offset", clock_offset,
                    "seconds added to pose stamps (localiser clock -> camera clock; config clock_offset; what "
@@ -248,7 +250,6 @@ int main(int argc, char** argv)
             return false;
         };
         std::optional<PairedFrame> last;
-        CameraUpTally camera_up;  // the pictures and pndt-nav take world z as up: said when it is not
         const auto atFrameLimit = [&] { return max_frames > 0 && mapped >= uint64_t(max_frames); };
         // The share of the work done: of the input read, or of --max-frames when that ends the run first.
         const auto done_share = [&](double input_read) {
@@ -269,7 +270,6 @@ int main(int argc, char** argv)
                                maps.index().back().file, settings.short_term.max_voxels);
                 ++mapped;
                 labelled += p.labelled;
-                camera_up.add(p.T_world_cam);
                 // Its images take the next scan (a folder's frames are loaded afresh, never paired).
                 if (last && stream) pairer.recycle(std::move(*last));
                 last = std::move(p);
@@ -281,15 +281,24 @@ int main(int argc, char** argv)
         // poses, scans after the last pose read so far wait (bounded) for the next one.
         constexpr size_t kMaxWaitingScans = 64;
         std::deque<mrpt::obs::CObservation3DRangeScan::Ptr> waiting;
-        const auto placeScan = [&](const mrpt::obs::CObservation3DRangeScan& scan) {
+        // `ordinal`: the scan's place among the input's depth frames (0-based), which finds
+        // its pose in a stampless pose file (a track by index).
+        CameraUpTally camera_up;  // the pictures and pndt-nav take world z as up: said when it is not
+        // The up of the poses' own frame in the camera: a robot's z (through its camera's mount), a camera's -y.
+        const auto upInCamera = [&](const mrpt::poses::CPose3D& extrinsic) {
+            return track && track->frame() == PoseFrame::Robot ? robotUpInCamera(extrinsic) : opticalUp();
+        };
+        const auto placeScan = [&](const mrpt::obs::CObservation3DRangeScan& scan, uint64_t ordinal) {
             const double t = mrpt::Clock::toDouble(scan.timestamp);
-            const auto T = track->cameraAt(t, settings.camera_pose.value_or(scan.sensorPose));
+            const mrpt::poses::CPose3D extrinsic = settings.camera_pose.value_or(scan.sensorPose);
+            const auto T = track->byIndex() ? track->cameraAtIndex(ordinal, extrinsic) : track->cameraAt(t, extrinsic);
             if (!T)
             {
                 ++no_pose;  // never mapped with a stale pose
                 return;
             }
             track->forgetBefore(t - PoseTrack::kKeptSeconds);  // a long recording's poses stay few
+            camera_up.add(*T, upInCamera(extrinsic));
             pairer.pushScan(scan, *T, done);
         };
         const auto placeWaiting = [&](bool all) {
@@ -297,7 +306,7 @@ int main(int argc, char** argv)
                    (all || waiting.size() > kMaxWaitingScans ||
                     (!track->empty() && mrpt::Clock::toDouble(waiting.front()->timestamp) <= track->endTime())))
             {
-                placeScan(*waiting.front());
+                placeScan(*waiting.front(), 0);  // poses in the stream: a track by time
                 waiting.pop_front();
             }
         };
@@ -309,13 +318,17 @@ int main(int argc, char** argv)
             source->load(i, p.frame, t, own);
             ++scans;
             if (!inTimeOrder(t)) continue;
-            const auto T = track ? track->cameraAt(t, settings.camera_pose.value_or(mrpt::poses::CPose3D())) : own;
+            const mrpt::poses::CPose3D extrinsic = settings.camera_pose.value_or(mrpt::poses::CPose3D());
+            const auto T = !track              ? own
+                           : track->byIndex() ? track->cameraAtIndex(i, extrinsic)
+                                              : track->cameraAt(t, extrinsic);
             if (!T)
             {
                 ++no_pose;
                 continue;
             }
             p.T_world_cam = *T;
+            camera_up.add(*T, upInCamera(extrinsic));
             p.stamp = mrpt::Clock::fromDouble(t);
             p.labelled = p.frame.hasLabels();
             done.push_back(std::move(p));
@@ -349,7 +362,7 @@ int main(int argc, char** argv)
                         placeWaiting(false);
                     }
                     else
-                        placeScan(*scan);
+                        placeScan(*scan, scans - 1);
                 }
                 else if (auto pose = std::dynamic_pointer_cast<mrpt::obs::CObservationRobotPose>(obs))
                 {
@@ -420,11 +433,8 @@ int main(int argc, char** argv)
                 hi = hi.cwiseMax(core.shapeOf(v).meanVec());
             }
         const Eigen::Vector3d c = 0.5 * (lo + hi), ext = hi - lo;
-        // A camera of its own (the frame's may be 1x1 or have its principal point off the image,
-        // where the look-at target would land: an empty overview), 640x480 with a 60 degree view.
-        const CameraIntrinsics overview_K{640, 480, 554.3, 554.3, 319.5, 239.5};
-        writeRenderedViews(core, lookAt(c + Eigen::Vector3d(0, -0.8 * ext.y(), 0.9 * ext.z() + 1.0), c), overview_K,
-                           out_dir + "/view_overview");
+        writeRenderedViews(core, lookAt(c + Eigen::Vector3d(0, -0.8 * ext.y(), 0.9 * ext.z() + 1.0), c),
+                           overviewIntrinsics(), out_dir + "/view_overview");
 
         writeFloorPlan(core, out_dir + "/floor_plan.png");
         if (const auto note = camera_up.notZUpNote(

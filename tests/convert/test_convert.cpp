@@ -94,8 +94,8 @@ TEST_F(ConvertRedwood, LevelTurnsTheWorldSoThatTheCamerasUpIsZ)
     const std::string in = makeRedwoodFolder(folder("redwood"));
     const RunResult plain = runConvert({in, "-o", path("plain.rawlog")});
     ASSERT_EQ(plain.exit_code, 0) << plain.err;
-    EXPECT_TRUE(contains(plain.out, "note: the cameras' up points along world (0.00, -1.00, 0.00) on average, 90 "
-                                    "degrees from +z"))
+    EXPECT_TRUE(contains(plain.out, "note: the poses' up (a robot's z, a camera's -y) points along world (0.00, "
+                                    "-1.00, 0.00) on average, 90 degrees from +z"))
         << plain.out;
     EXPECT_TRUE(contains(plain.out, "--level writes the rawlog in a world turned to z up")) << plain.out;
 
@@ -109,9 +109,9 @@ TEST_F(ConvertRedwood, LevelTurnsTheWorldSoThatTheCamerasUpIsZ)
         args.insert(args.end(), extra.begin(), extra.end());
         const RunResult r = runConvert(args);
         ASSERT_EQ(r.exit_code, 0) << r.err;
-        EXPECT_TRUE(contains(r.out, "world levelled     : up (0.000, -1.000, 0.000) turned to +z (90.0 degrees)"))
-            << r.out;
-        EXPECT_FALSE(contains(r.out, "cameras' up points")) << r.out;
+        EXPECT_TRUE(contains(r.out, "world levelled     : up (0.000, -1.000, 0.000)")) << r.out;
+        EXPECT_TRUE(contains(r.out, "turned to +z (90.0 degrees)")) << r.out;
+        EXPECT_FALSE(contains(r.out, "up (a robot's z, a camera's -y) points")) << r.out;
         const auto objs = readRawlog(path("level.rawlog"));
         ASSERT_EQ(objs.size(), 6u);
         for (int i = 0; i < 3; ++i)
@@ -126,6 +126,28 @@ TEST_F(ConvertRedwood, LevelTurnsTheWorldSoThatTheCamerasUpIsZ)
         const auto j = summary(path("level.json"));
         EXPECT_NEAR(j["levelled"]["degrees"].get<double>(), 90.0, 1e-9);
         fs::remove(path("level.rawlog"));
+    }
+    // A z-up world is left as it is: robot poses (z up) with the camera mounted upside down. The
+    // camera's -y points down there, but the robot's z is the poses' up (the mount says so).
+    {
+        std::ofstream f(path("robot.tum"));
+        for (int i = 0; i < 3; ++i) f << i / 30.0 << " " << 0.01 * i << " 0 0 0 0 0 1\n";
+    }
+    for (const bool level : {false, true})
+    {
+        std::vector<std::string> args{in, "-o", path("robot.rawlog"), "--poses", path("robot.tum"), "--pose-format",
+                                      "tum", "--pose-frame", "robot", "--sensor-pose", "0 0 1 0 0 180"};
+        if (level) args.push_back("--level");
+        const RunResult r = runConvert(args);
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        EXPECT_FALSE(contains(r.out, "points along world")) << r.out;
+        if (level)
+        {
+            EXPECT_TRUE(contains(r.out, "world levelled     : the first frame's up (0.000, 0.000, 1.000) is nearest "
+                                        "+z: not turned"))
+                << r.out;
+        }
+        fs::remove(path("robot.rawlog"));
     }
     // --up without --model or --level is still an error.
     const RunResult up_only = runConvert({in, "-o", path("up.rawlog"), "--up", "0 -1 0"});

@@ -303,7 +303,7 @@ TEST_F(ConvertErrors, RawlogPreviewChecksItsOptionsBeforeReading)
     for (const auto& [args, message] : std::vector<std::pair<std::vector<std::string>, std::string>>{
              {{"--up", "0", "0", "0"}, "--up: \"0 0 0\" is not a direction"},
              {{"--up", "nan", "0", "1"}, "--up: \"nan 0 1\" is not a direction"},
-             {{"--elevation", "90"}, "--elevation: 90 is not an angle above the horizon"},
+             {{"--elevation", "90.5"}, "--elevation: 90.5 is not an angle above the horizon"},
              {{"--tol-abs", "-1"}, "--tol-abs / --tol-rel"}})
     {
         std::vector<std::string> a{rawlog, "-o", path("pv/p"), "-q"};
@@ -314,8 +314,9 @@ TEST_F(ConvertErrors, RawlogPreviewChecksItsOptionsBeforeReading)
         EXPECT_FALSE(fs::exists(path("pv/p_first_camera.png"))) << message;
         EXPECT_FALSE(fs::exists(path("pv/p_overview.png"))) << message;
     }
-    // A valid --up still maps and writes both views.
-    const RunResult ok = runExe(PNDT_PREVIEW_EXE, {rawlog, "-o", path("pv/p"), "-q", "--up", "0", "-1", "0"});
+    // A valid --up still maps and writes both views; 90 degrees looks straight down.
+    const RunResult ok =
+        runExe(PNDT_PREVIEW_EXE, {rawlog, "-o", path("pv/p"), "-q", "--up", "0", "-1", "0", "--elevation", "90"});
     EXPECT_EQ(ok.exit_code, 0) << ok.err;
     EXPECT_TRUE(fs::exists(path("pv/p_first_camera.png")));
     EXPECT_TRUE(fs::exists(path("pv/p_overview.png")));

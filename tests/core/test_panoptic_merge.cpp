@@ -42,6 +42,33 @@ TEST(PanopticMerge, RejectsUnknownClassesAndSizeMismatch)
     EXPECT_THROW(panopticMerge(cs, sem, ss, inst, is, os, oi, op), InputError);
 }
 
+// Class 0 is read as void everywhere, and classes are found by name: a set that breaks either
+// was taken (a class 0 "road" lost without a word; two "c5" counted as one class).
+TEST(ClassSet, ClassZeroIsVoidAndNamesAreUnique)
+{
+    const auto message = [](std::vector<ClassSet::Class> c) -> std::string {
+        try
+        {
+            ClassSet s(std::move(c));
+            return "no error";
+        }
+        catch (const std::invalid_argument& e)
+        {
+            return e.what();
+        }
+    };
+    EXPECT_EQ(message({{"void", false}, {"wall", false}, {"chair", true}}), "no error");
+    EXPECT_EQ(message({{"road", false}, {"chair", true}}), "class 0 must be 'void' (no prediction, stuff), not 'road'");
+    EXPECT_EQ(message({{"void", true}, {"chair", true}}),
+              "class 0 must be 'void' (no prediction, stuff), not 'void' (a thing)");
+    EXPECT_EQ(message({{"void", false}, {"c5", true}, {"chair", true}, {"c5", false}}),
+              "class name 'c5' is given twice (classes 1 and 3)");
+    EXPECT_EQ(message({}), "a class set holds 1 to 255 classes (class 0 = void), not 0");
+    std::vector<ClassSet::Class> many{{"void", false}};
+    for (int i = 1; i < 256; ++i) many.push_back({"c" + std::to_string(i), true});
+    EXPECT_EQ(message(many), "a class set holds 1 to 255 classes (class 0 = void), not 256");
+}
+
 TEST(ClassSet, Nyuv2StuffAndPalette)
 {
     const ClassSet cs = ClassSet::nyuv2_40();

@@ -73,24 +73,48 @@ bool PoseTrack::addRobotPose(const mrpt::obs::CObservationRobotPose& p)
 PoseTrack PoseTrack::fromFile(const std::string& path, io::PoseFormat format, std::optional<PoseFrame> frame,
                               double max_gap)
 {
-    // A stampless file's made-up stamps (index / 30 Hz) would be interpolated against the
-    // rawlog's real ones: frames skipped or mapped with the poses of other frames.
+    // A stampless file's made-up stamps (index / 30 Hz) were interpolated against the frames'
+    // real ones: frames skipped, or mapped with the poses of other frames. Its poses go by index.
     if (io::isStampless(format))
-        throw std::runtime_error(fmt::format(
-            "{}: '{}' pose files hold no stamps, and pndt-map matches poses to frames by time; write them "
-            "into the rawlog with pndt-convert --poses {} --pose-format {} (frame i takes pose i), or give a "
-            "stamped format (tum, rtabmap1, rtabmap10, rtabmap11, nicr)",
-            path, io::toString(format), path, io::toString(format)));
+    {
+        io::PoseReadOptions ro;
+        ro.frame_rate_hz = 1.0;  // t = the pose's index (non-finite poses skipped keep their place)
+        const auto poses = io::readPoseFile(path, format, ro);
+        if (poses.empty()) throw std::runtime_error(fmt::format("{}: no poses", path));
+        PoseTrack track(frame.value_or(defaultPoseFrame(format)), max_gap, path, std::string());
+        track.by_index_ = true;
+        for (const auto& p : poses)
+        {
+            const size_t k = size_t(std::llround(p.t));
+            if (track.indexed_.size() <= k) track.indexed_.resize(k + 1);
+            track.indexed_[k] = p.T_world_sensor;
+        }
+        track.indexed_size_ = poses.size();
+        return track;
+    }
     auto poses = io::readPoseFile(path, format);
     return PoseTrack(std::move(poses), frame.value_or(defaultPoseFrame(format)), max_gap, path);
 }
 
+std::optional<Pose> PoseTrack::toCamera(const Pose& p, const mrpt::poses::CPose3D& extrinsic) const
+{
+    if (frame_ == PoseFrame::Camera) return p;
+    return cameraPoseInWorld(toMrpt(p), extrinsic);
+}
+
 std::optional<Pose> PoseTrack::cameraAt(double t, const mrpt::poses::CPose3D& extrinsic) const
 {
+    if (by_index_) throw std::logic_error("PoseTrack::cameraAt on a track by index");
     const auto p = interp_.at(t - clock_offset_, max_gap_);
     if (!p) return std::nullopt;
-    if (frame_ == PoseFrame::Camera) return *p;
-    return cameraPoseInWorld(toMrpt(*p), extrinsic);
+    return toCamera(*p, extrinsic);
+}
+
+std::optional<Pose> PoseTrack::cameraAtIndex(size_t k, const mrpt::poses::CPose3D& extrinsic) const
+{
+    if (!by_index_) throw std::logic_error("PoseTrack::cameraAtIndex on a track by time");
+    if (k >= indexed_.size() || !indexed_[k]) return std::nullopt;
+    return toCamera(*indexed_[k], extrinsic);
 }
 
 }  // namespace pndt::app

@@ -1,5 +1,6 @@
 #include <fmt/format.h>
 #include <pndt/app/world_up.h>
+#include <pndt/mrpt/observation_frame.h>
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +12,21 @@ Pose levellingRotation(const Eigen::Vector3d& up)
     Pose R = Pose::Identity();
     R.linear() = Eigen::Quaterniond::FromTwoVectors(up.normalized(), Eigen::Vector3d::UnitZ()).toRotationMatrix();
     return R;
+}
+
+Eigen::Vector3d robotUpInCamera(const mrpt::poses::CPose3D& robot_to_camera)
+{
+    const Pose T_robot_cam = cameraPoseInWorld(mrpt::poses::CPose3D(), robot_to_camera);
+    return T_robot_cam.linear().transpose() * Eigen::Vector3d::UnitZ();
+}
+
+Eigen::Vector3d nearestAxis(const Eigen::Vector3d& v)
+{
+    Eigen::Vector3d::Index i = 0;
+    v.cwiseAbs().maxCoeff(&i);
+    Eigen::Vector3d a = Eigen::Vector3d::Zero();
+    a[i] = v[i] < 0 ? -1.0 : 1.0;
+    return a;
 }
 
 std::string directionText(const Eigen::Vector3d& v, int decimals)
@@ -38,7 +54,8 @@ std::optional<std::string> CameraUpTally::notZUpNote(const std::string& remedy) 
     if (up.isZero()) return std::nullopt;
     const double tilt = angleDegrees(up, Eigen::Vector3d::UnitZ());
     if (tilt <= kMaxTiltDegrees) return std::nullopt;
-    return fmt::format("the cameras' up points along world {} on average, {:.0f} degrees from +z: the floor plan, "
+    return fmt::format("the poses' up (a robot's z, a camera's -y) points along world {} on average, {:.0f} degrees "
+                       "from +z: the floor plan, "
                        "the overview, pndt-nav's grid and MRPT's 2D tools take world z as up{}",
                        directionText(up, 2), tilt, remedy.empty() ? "" : " (" + remedy + ")");
 }

@@ -10,6 +10,11 @@ ClassSet::ClassSet(std::vector<Class> classes) : classes_(std::move(classes))
     if (classes_.empty() || classes_.size() > 255)
         throw std::invalid_argument("a class set holds 1 to 255 classes (class 0 = void), not " +
                                     std::to_string(classes_.size()));
+    // Class 0 is read as "no prediction" wherever labels are: a set whose class 0 is a real
+    // class ("road") lost it without a word.
+    if (classes_[0].name != "void" || classes_[0].is_thing)
+        throw std::invalid_argument("class 0 must be 'void' (no prediction, stuff), not '" + classes_[0].name + "'" +
+                                    (classes_[0].is_thing ? " (a thing)" : ""));
     // Names are how configs, queries and reports find a class: two of one name made one
     // "class" of two ids (instances.json listed both under it, a query counted one).
     for (size_t i = 0; i < classes_.size(); ++i)

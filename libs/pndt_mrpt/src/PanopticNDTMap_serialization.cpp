@@ -53,6 +53,12 @@ namespace pndt
 {
 namespace
 {
+/// A map file that is whole but holds what this version refuses (not damage: no "corrupt").
+struct NotAcceptedContent : std::runtime_error
+{
+    using std::runtime_error::runtime_error;
+};
+
 constexpr uint32_t kMagic = 0x54444E50;  // "PNDT"
 // Bounds against garbage counts: refuse before allocating. 2^28 voxels would be a map of
 // tens of GB; a file claiming more is damaged (doc/hardening.md). Counts below the bound
@@ -125,7 +131,18 @@ MapOptions readOptions(CArchive& a, uint8_t version)
         c.name = readString(a, "class name");
         c.is_thing = readBool(a, "a class's is_thing");
     }
-    o.classes = ClassSet(std::move(classes));
+    try
+    {
+        o.classes = ClassSet(std::move(classes));
+    }
+    catch (const std::invalid_argument& e)
+    {
+        // Not damage: a set this version refuses (a map written by an earlier one, whose config
+        // had a name twice or a class 0 other than void).
+        throw NotAcceptedContent(fmt::format("the map's class set is not one this version takes ({}): written by an "
+                                             "earlier version, or damaged",
+                                             e.what()));
+    }
     // Older maps keep the rules they were built with (see the top of this file).
     if (version >= 2)
     {
@@ -599,6 +616,10 @@ void PanopticNDTMap::serializeFrom(CArchive& raw_in, uint8_t version)
                 genericMapParams = gp;
                 pairer_.clear();
                 stats_ = {};
+            }
+            catch (const NotAcceptedContent& e)
+            {
+                throw std::runtime_error(fmt::format("PanopticNDTMap: {}", e.what()));
             }
             catch (const std::exception& e)
             {

@@ -21,6 +21,10 @@ void writeInstanceReport(const PanopticMap& map, const std::string& path);
 void writeRenderedViews(const PanopticMap& map, const Pose& T_world_cam, const CameraIntrinsics& K,
                         const std::string& prefix);
 
+/// The camera of overview pictures: 640x480 with a 60 degree view, whatever the frames' camera
+/// (a 1x1 camera, or one whose principal point lies off the image, gave empty overviews).
+inline CameraIntrinsics overviewIntrinsics() { return {640, 480, 554.3, 554.3, 319.5, 239.5}; }
+
 /// The top-down semantic floor plan (map_pictures.h floorPlan) as PNG, atomically.
 void writeFloorPlan(const PanopticMap& map, const std::string& path);
 

@@ -1,9 +1,10 @@
 // Which way is up in a pose world. The floor plan, the overview, pndt-nav's grid and MRPT's 2D
 // tools take world z as up; worlds of datasets often are not (Redwood's is its first camera,
-// y down). The cameras' own up (-y of the optical frame, upright for a hand-held or robot
-// camera) tells, and gives the rotation that levels such a world.
+// y down). The poses' own up tells: a robot's z, or, for camera poses, the camera's -y (upright
+// for a hand-held camera; a camera mounted on a robot is known by its mount, the sensor pose).
 #pragma once
 
+#include <mrpt/poses/CPose3D.h>
 #include <pndt/types.h>
 
 #include <optional>
@@ -11,8 +12,19 @@
 
 namespace pndt::app
 {
-/// A camera's up in the world: -y of its optical frame.
-inline Eigen::Vector3d cameraUp(const Pose& T_world_cam) { return -T_world_cam.linear().col(1); }
+/// The up of a camera pose's own frame, in the optical frame: -y.
+inline Eigen::Vector3d opticalUp() { return -Eigen::Vector3d::UnitY(); }
+/// The robot's up (its z) in the optical frame of a camera mounted at `robot_to_camera` (MRPT
+/// sensor axes): -y for the identity mount.
+Eigen::Vector3d robotUpInCamera(const mrpt::poses::CPose3D& robot_to_camera);
+/// An up direction of the pose's frame (`up_in_camera`, optical axes) in the world.
+inline Eigen::Vector3d worldUp(const Pose& T_world_cam, const Eigen::Vector3d& up_in_camera = opticalUp())
+{
+    return T_world_cam.linear() * up_in_camera;
+}
+/// The world axis (+-x, +-y, +-z) nearest `v`: a dataset's world is one axis-aligned turn
+/// away from z-up, and a camera's own tilt is not part of it.
+Eigen::Vector3d nearestAxis(const Eigen::Vector3d& v);
 
 /// The rotation about the world origin that takes `up` (any length > 0) to +z, the smallest
 /// such (about the axis up x z).
@@ -31,9 +43,10 @@ class CameraUpTally
     /// Cameras whose mean up is further than this from +z make the world "not z-up".
     static constexpr double kMaxTiltDegrees = 45.0;
 
-    void add(const Pose& T_world_cam)
+    /// `up_in_camera`: the up of the pose's own frame (opticalUp(), or robotUpInCamera).
+    void add(const Pose& T_world_cam, const Eigen::Vector3d& up_in_camera = opticalUp())
     {
-        sum_ += cameraUp(T_world_cam);
+        sum_ += worldUp(T_world_cam, up_in_camera);
         ++count_;
     }
     size_t count() const { return count_; }
