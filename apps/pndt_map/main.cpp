@@ -281,13 +281,13 @@ int main(int argc, char** argv)
         // poses, scans after the last pose read so far wait (bounded) for the next one.
         constexpr size_t kMaxWaitingScans = 64;
         std::deque<mrpt::obs::CObservation3DRangeScan::Ptr> waiting;
-        // `ordinal`: the scan's place among the input's depth frames (0-based), which finds
-        // its pose in a stampless pose file (a track by index).
         CameraUpTally camera_up;  // the pictures and pndt-nav take world z as up: said when it is not
         // The up of the poses' own frame in the camera: a robot's z (through its camera's mount), a camera's -y.
         const auto upInCamera = [&](const mrpt::poses::CPose3D& extrinsic) {
             return track && track->frame() == PoseFrame::Robot ? robotUpInCamera(extrinsic) : opticalUp();
         };
+        // `ordinal`: the scan's place among the input's depth frames (0-based), which finds
+        // its pose in a stampless pose file (a track by index).
         const auto placeScan = [&](const mrpt::obs::CObservation3DRangeScan& scan, uint64_t ordinal) {
             const double t = mrpt::Clock::toDouble(scan.timestamp);
             const mrpt::poses::CPose3D extrinsic = settings.camera_pose.value_or(scan.sensorPose);
