@@ -428,6 +428,9 @@ int runLive(int argc, char** argv)
             if (pipeline.last()) writeRenderedViews(core, pipeline.last()->T_world_cam, pipeline.last()->frame.K,
                                                     out_dir + "/view_last");
             writeFloorPlan(core, out_dir + "/floor_plan.png");
+            if (const auto note = pipeline.cameraUp().notZUpNote(
+                    "the localiser's world is taken as it comes: have it publish poses in a z-up world"))
+                fmt::print(stderr, "pndt-live: note: {}\n", *note);
             fmt::print("final map          : {}\n", m->asString());
         }
         else

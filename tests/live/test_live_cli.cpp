@@ -13,6 +13,8 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include <Eigen/Geometry>
+
 #include <cerrno>
 #include <chrono>
 #include <cstring>
@@ -225,6 +227,7 @@ TEST_F(LiveCli, MapsTheVirtualCameraAndEqualsTheOfflineReplayOfItsRecording)
     EXPECT_NE(out.find("capture"), std::string::npos);
     // Every frame written whole to the recording (counted as written, not as queued).
     EXPECT_EQ(number(out, R"(recording\s+: rec.rawlog \((\d+) frames, [0-9.]+ MB\))"), 75u);
+    EXPECT_EQ(err.find("note: the poses' up"), std::string::npos) << err;  // the camera's world is z-up
     expectReplayEqualsLive(mapped, "--period 1", 2);
 }
 
@@ -573,6 +576,47 @@ TEST_F(LiveCli, FramesWithoutPosesAreSkippedAndCounted)
     EXPECT_EQ(mapped + skipped, 45u) << out;
     EXPECT_LE(mapped, 15u);
     EXPECT_GE(skipped, 30u);
+}
+
+// A localiser whose world is not z-up (here the camera's true poses turned so that world -y is
+// up, as Redwood's and TUM's optical worlds): the floor plan is then a side view, and pndt-live
+// says so, as pndt-map does; the z-up run of the first test says nothing.
+TEST_F(LiveCli, ALocalisersWorldWhoseZIsNotUpIsSaid)
+{
+    camera("");
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();  // z -> -y
+    std::ifstream in(dir / "poses.txt");
+    std::ostringstream turned;
+    std::string line;
+    int poses = 0;
+    while (std::getline(in, line))
+    {
+        std::istringstream l(line);
+        double t, x, y, z, qx, qy, qz, qw;
+        if (line.empty() || line[0] == '#' || !(l >> t >> x >> y >> z >> qx >> qy >> qz >> qw))
+        {
+            turned << line << "\n";
+            continue;
+        }
+        const Eigen::Vector3d p = R * Eigen::Vector3d(x, y, z);
+        const Eigen::Quaterniond q(Eigen::Quaterniond(R) * Eigen::Quaterniond(qw, qx, qy, qz));
+        turned << fmt::format("{:.6f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f}\n", t, p.x(), p.y(), p.z(),
+                              q.x(), q.y(), q.z(), q.w());
+        ++poses;
+    }
+    in.close();
+    ASSERT_GT(poses, 30);
+    std::ofstream(dir / "poses.txt") << turned.str();
+    ASSERT_EQ(live("--max-frames 20"), 0) << out << err;
+    EXPECT_EQ(number(out, R"(frames mapped\s+: (\d+))"), 20u) << out;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(
+        err, m, std::regex(R"(pndt-live: note: the poses' up .* points along world \((-?[0-9.]+), (-?[0-9.]+), (-?[0-9.]+)\) on average, ([0-9]+) degrees from \+z)")))
+        << err;
+    EXPECT_NEAR(std::stod(m[2]), -1.0, 0.1) << err;  // world -y, the turned world's up
+    EXPECT_GT(std::stoi(m[4]), 80) << err;
+    EXPECT_NE(err.find("publish poses in a z-up world"), std::string::npos) << err;
+    EXPECT_TRUE(fs::exists(dir / "live" / "floor_plan.png"));
 }
 
 // One glibc arena (doc/hardening.md, "Soak": the RSS creep of per-thread arenas), unless the

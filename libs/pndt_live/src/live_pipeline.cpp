@@ -274,6 +274,8 @@ void LivePipeline::mapItem(Item& it, std::vector<PairedFrame>& done, const std::
         return;
     }
     track_.forgetBefore(it.t - app::PoseTrack::kKeptSeconds);  // as pndt-map's replay of the recording
+    // The track holds robot poses (a camera-frame stream's in MRPT sensor axes): up is their z.
+    camera_up_.add(*T, app::robotUpInCamera(it.frame.scan->sensorPose));
     // Each observation is emitted, paired and what it completes integrated before the next
     // one, as pndt-map does when it replays the recording: a hand-over (a map added to
     // maps.rawlog) then falls between the same inputs in both files. (Emitting the label

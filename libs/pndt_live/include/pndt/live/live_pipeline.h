@@ -16,6 +16,7 @@
 #include <pndt/app/pose_refinement.h>
 #include <pndt/app/pose_track.h>
 #include <pndt/app/short_term_maps.h>
+#include <pndt/app/world_up.h>
 #include <pndt/live/oni_capture.h>
 #include <pndt/live/pose_stream.h>
 #include <pndt/mrpt/observation_pairer.h>
@@ -104,6 +105,9 @@ class LivePipeline
     const std::optional<PairedFrame>& last() const { return last_; }
     /// Pose-track size, for the summary.
     size_t poses() const { return track_.size(); }
+    /// The up of the mapped frames' robot poses (their z through the camera's mount), read once
+    /// run() has returned: whether the localiser's world is z-up.
+    const app::CameraUpTally& cameraUp() const { return camera_up_; }
 
    private:
     struct Item;
@@ -124,6 +128,7 @@ class LivePipeline
     LiveOptions o_;
     LiveStats stats_;
     std::optional<PairedFrame> last_;
+    app::CameraUpTally camera_up_;  ///< the mapping thread's
     std::atomic<int64_t> drain_deadline_ns_{std::numeric_limits<int64_t>::max()};  ///< steady clock
     bool pose_gap_reported_ = false;
     std::unique_ptr<Queues> q_;
