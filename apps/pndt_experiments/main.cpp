@@ -178,7 +178,7 @@ int main(int argc, char** argv)
     CLI::App app{"pndt-experiments: the paper's Table I experiments on the synthetic benchmark; writes "
                  "doc/results.md and per-class bar charts"};
     app.add_flag("--quick", quick,
-                 "minimal run: scene small, seed 1, 30 frames, 10 cm only, validation on bedroom seed 1; writes "
+                 "minimal run: scene held_living, seed 1, 30 frames, 10 cm only, validation on bedroom seed 1; writes "
                  "out/experiments-quick/ unless --out / --images are given");
     app.add_option("--scenes", scenes, "comma-separated scene presets or numbers")->capture_default_str();
     app.add_option("--seeds", seeds, "comma-separated recording seeds")->capture_default_str();

@@ -219,10 +219,10 @@ std::string buildReport(const Plan& plan, const std::vector<RunResult>& runs, co
     for (double v : plan.voxels) md << tableRow(plan, runs, "paper-net@" + cm(v), spread);
     for (double v : plan.voxels) md << tableRow(plan, runs, "cube-net@" + cm(v), spread);
     for (double v : plan.voxels) md << tableRow(plan, runs, "tuned-net@" + cm(v), spread);
-    md << "\n\"PanopticNDT\" is our map with its defaults (our rules beyond the paper on); \"paper preset (exact)\" "
-          "is every rule as the paper states it (`config/presets/paper.ini`, `MapOptions::applyPaperRules`: "
-          "per-pixel rays each applying its miss, Eq. 9 over every top voxel, a dense h^L with a void bin, no "
-          "wiping of freed voxels, none of our five rules).\n";
+    md << "\n\"PanopticNDT\" is our map (our rules beyond the paper on, at the thresholds chosen on the validation "
+          "scenes); \"paper preset (exact)\" is every rule as the paper states it (`config/presets/paper.ini`, "
+          "`MapOptions::applyPaperRules`: per-pixel rays each applying its miss, Eq. 9 over every top voxel, a "
+          "dense h^L with a void bin, no wiping of freed voxels, none of our five rules).\n";
     md << "\n**(c) Ablations (network-like input)**\n\n";
     md << tableHeader();
     md << tableRow(plan, runs, "raw-net", spread);

@@ -1,6 +1,9 @@
 // The model description file: every key read, and every mistake a clear error naming the file.
 #include <gtest/gtest.h>
+#include <pndt/seg/detector_geometry.h>
 #include <pndt/seg/model_description.h>
+
+#include <set>
 
 #include "seg_test_util.h"
 
@@ -109,4 +112,26 @@ TEST(ModelDescription, AClassOutsideTheClassSetIsNamed)
     {
         EXPECT_NE(std::string(e.what()).find("'chairs'"), std::string::npos) << e.what();
     }
+}
+
+// The COCO-80 names live twice: in the detector's class check (detector_classes.cpp) and in the
+// fetch script's description writer (scripts/models/write_description.py, which the test build
+// runs). The description that script writes must load and map every class with no class_map.
+TEST(ModelDescription, TheFetchScriptsCocoDescriptionLoadsAndMapsEveryClass)
+{
+    const auto d = loadModelDescription(PNDT_SEG_COCO_DESCRIPTION);
+    EXPECT_EQ(d.kind, "detector");
+    ASSERT_EQ(d.classes.size(), 80u);
+    EXPECT_EQ(std::set<std::string>(d.classes.begin(), d.classes.end()).size(), 80u) << "names once";
+    EXPECT_EQ(d.classes[0], "person") << "COCO-80 detection order";
+    EXPECT_EQ(d.classes[56], "chair");
+    EXPECT_EQ(d.classes[79], "toothbrush");
+    std::vector<uint16_t> ids;
+    ASSERT_NO_THROW(ids = mapDetectorClasses(d.classes, d.class_map, ClassSet::nyuv2_40()));
+    ASSERT_EQ(ids.size(), 80u);
+    const auto& nyu = ClassSet::nyuv2_40();
+    EXPECT_EQ(ids[0], nyu.find("person"));
+    EXPECT_EQ(ids[56], nyu.find("chair"));
+    EXPECT_EQ(ids[57], nyu.find("sofa")) << "couch";
+    EXPECT_EQ(ids[23], nyu.find("otherprop")) << "giraffe: no indoor counterpart";
 }
