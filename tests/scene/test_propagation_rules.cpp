@@ -175,6 +175,7 @@ TEST(Propagation, SmallFragmentJoinsTheTouchingInstanceOfItsClass)
     MapOptions o;
     o.voxel_size = 0.1;
     o.label_fill_distance = 0;
+    o.fragment_absorb_ratio = 0.15;
     std::vector<VoxelSpec> specs(10, kChairVoxel7);
     std::vector<int32_t> at = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9};
     specs.push_back({{{kChair, 5.f}}, 10, 10, {{8, 4.f}}});
@@ -197,6 +198,11 @@ TEST(Propagation, SmallFragmentJoinsTheTouchingInstanceOfItsClass)
     at.push_back(-2);  // instance 8 now has two voxels
     const PanopticMap two = build(specs, 12, o, at);
     EXPECT_EQ(two.panopticLabel(10), (PanopticLabel{kChair, 8}));
+
+    // At the default 0.25 they are: 2 <= 0.25 * 10.
+    o.fragment_absorb_ratio = MapOptions{}.fragment_absorb_ratio;
+    ASSERT_EQ(o.fragment_absorb_ratio, 0.25);
+    EXPECT_EQ(build(specs, 12, o, at).panopticLabel(10), (PanopticLabel{kChair, 7}));
 
     // Off: the paper keeps every instance.
     o.fragment_absorb_ratio = 0;

@@ -107,7 +107,8 @@ struct MapOptions
     /// predictions covered them apart, are one object split early on: they are
     /// merged into the older id. 0 = off (the paper: fragments only heal through
     /// the histograms). The evidence is map state: copied and serialised with it.
-    uint32_t fragment_merge_frames = 3;
+    /// 5: chosen on the validation scenes (doc/results.md, "Validation").
+    uint32_t fragment_merge_frames = 5;
     /// Fragment evidence: masks smaller than this (pixels) say too little to count.
     uint32_t fragment_min_mask_pixels = 50;
     /// Fragment evidence: a prediction "covers" a map instance when it holds more
@@ -120,13 +121,15 @@ struct MapOptions
     /// A map instance with at most this share of the voxels of a touching
     /// instance of its class is a fragment of it and joins it: the part of an
     /// object first seen apart, e.g. while the network confused its class, so no
-    /// prediction ever covered both. 0 = off (the paper).
-    double fragment_absorb_ratio = 0.15;
+    /// prediction ever covered both. 0 = off (the paper). 0.25: chosen on the
+    /// validation scenes.
+    double fragment_absorb_ratio = 0.25;
     /// Occupied voxels without semantic evidence (every view of them was below
     /// theta_L) take the most common panoptic label of their labelled
     /// 26-neighbours, growing from labelled surface up to this distance in
     /// metres. Only the panoptic output changes; 0 = off (the paper: void).
-    double label_fill_distance = 0.3;
+    /// 0.2 m: chosen on the validation scenes.
+    double label_fill_distance = 0.2;
 
     // --- back-projection and queries
     double vtou_mahalanobis_sq = 3.0;    ///< projected-Gaussian footprint (chi^2, 2 dof)
