@@ -302,7 +302,8 @@ double validationCriterion(const ValidationResult& v, double theta_l)
 
 double chooseValue(const ValidationResult& v, const std::string& param)
 {
-    double best = defaultValue(param), best_c = validationCriterion(v, param, best);
+    const double fallback = defaultValue(param), fallback_c = validationCriterion(v, param, fallback);
+    double best = fallback, best_c = fallback_c;
     const auto it = v.sweep.find(param);
     if (it == v.sweep.end()) return best;
     for (double t : it->second)
@@ -310,6 +311,7 @@ double chooseValue(const ValidationResult& v, const std::string& param)
         const double c = validationCriterion(v, param, t);
         if (!std::isnan(c) && (std::isnan(best_c) || c > best_c)) best = t, best_c = c;
     }
+    if (!std::isnan(fallback_c) && best_c <= fallback_c + kValidationTieMargin) return fallback;
     return best;
 }
 double chooseThetaL(const ValidationResult& v) { return chooseValue(v, "theta_l"); }

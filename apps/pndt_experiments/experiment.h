@@ -184,7 +184,11 @@ struct ValidationResult
 /// (3D mIoU + 3D PQ + 2D mIoU + 2D PQ) / 4 of the network-input map.
 double validationCriterion(const ValidationResult& v, const std::string& param, double value);
 double validationCriterion(const ValidationResult& v, double theta_l);
-/// The value of `param` with the highest criterion (ties: the default, then the first listed).
+/// A value must beat the default's criterion by more than this (percent points)
+/// to replace it: smaller gains are below what four validation runs can tell apart.
+constexpr double kValidationTieMargin = 0.1;
+/// The value of `param` with the highest criterion, if that beats the default's
+/// by more than kValidationTieMargin, else the default (ties: the first listed).
 double chooseValue(const ValidationResult& v, const std::string& param);
 double chooseThetaL(const ValidationResult& v);
 

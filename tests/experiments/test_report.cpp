@@ -176,4 +176,8 @@ TEST(ExperimentReport, ValidationSweepsOneParameterAtATime)
     v.runs = {run};
     EXPECT_EQ(pndt::exp::chooseThetaL(v), 0.7);
     EXPECT_EQ(pndt::exp::chooseValue(v, "split_coverage"), 0.3);
+    // A gain within the tie margin keeps the default.
+    set(pndt::exp::validationRowId("split_coverage", 0.3), 50 + 0.5 * pndt::exp::kValidationTieMargin);
+    v.runs = {run};
+    EXPECT_EQ(pndt::exp::chooseValue(v, "split_coverage"), 0.5);
 }

@@ -199,9 +199,9 @@ TEST(Propagation, SmallFragmentJoinsTheTouchingInstanceOfItsClass)
     const PanopticMap two = build(specs, 12, o, at);
     EXPECT_EQ(two.panopticLabel(10), (PanopticLabel{kChair, 8}));
 
-    // At the default 0.25 they are: 2 <= 0.25 * 10.
+    // At the default 0.35 they are: 2 <= 0.35 * 10.
     o.fragment_absorb_ratio = MapOptions{}.fragment_absorb_ratio;
-    ASSERT_EQ(o.fragment_absorb_ratio, 0.25);
+    ASSERT_EQ(o.fragment_absorb_ratio, 0.35);
     EXPECT_EQ(build(specs, 12, o, at).panopticLabel(10), (PanopticLabel{kChair, 7}));
 
     // Off: the paper keeps every instance.

@@ -107,8 +107,8 @@ struct MapOptions
     /// predictions covered them apart, are one object split early on: they are
     /// merged into the older id. 0 = off (the paper: fragments only heal through
     /// the histograms). The evidence is map state: copied and serialised with it.
-    /// 5: chosen on the validation scenes (doc/results.md, "Validation").
-    uint32_t fragment_merge_frames = 5;
+    /// 8: chosen on the validation scenes (doc/results.md, "Validation").
+    uint32_t fragment_merge_frames = 8;
     /// Fragment evidence: masks smaller than this (pixels) say too little to count.
     uint32_t fragment_min_mask_pixels = 50;
     /// Fragment evidence: a prediction "covers" a map instance when it holds more
@@ -121,9 +121,10 @@ struct MapOptions
     /// A map instance with at most this share of the voxels of a touching
     /// instance of its class is a fragment of it and joins it: the part of an
     /// object first seen apart, e.g. while the network confused its class, so no
-    /// prediction ever covered both. 0 = off (the paper). 0.25: chosen on the
-    /// validation scenes.
-    double fragment_absorb_ratio = 0.25;
+    /// prediction ever covered both. 0 = off (the paper). 0.35: chosen on the
+    /// validation scenes, the top of the range tried (beyond 1 : 3, two touching
+    /// objects of one class are no longer rare).
+    double fragment_absorb_ratio = 0.35;
     /// Occupied voxels without semantic evidence (every view of them was below
     /// theta_L) take the most common panoptic label of their labelled
     /// 26-neighbours, growing from labelled surface up to this distance in
