@@ -67,7 +67,7 @@ size_t instancesOfClass(const PanopticMap& map, uint16_t semantic)
 
 TEST(InstanceRuleFrames, AFrameWithoutPredictionsKeepsNoSplitPixelsOfTheFrameBefore)
 {
-    MapOptions o;  // defaults: split_coverage 0.5, class-consistent instances
+    MapOptions o;  // defaults: split_coverage 0.7, class-consistent instances
     PanopticMap map(o);
     // Two chairs on the wall, seen three times (splits need two map instances in view).
     const PanopticFrame chairs = wallWith({{0, 16, kChair, 1}, {40, 56, kChair, 2}});

@@ -143,11 +143,13 @@ TEST(ExperimentReport, ValidationSweepsOneParameterAtATime)
 {
     pndt::exp::Plan plan;
     plan.voxels = {0.1};
-    const pndt::exp::Sweep sweep = {{"theta_l", {0.5, 0.7}}, {"split_coverage", {0.3, 0.5}}};
+    const double split_default = pndt::MapOptions{}.split_coverage;
+    ASSERT_NE(split_default, 0.3);
+    const pndt::exp::Sweep sweep = {{"theta_l", {0.5, 0.7}}, {"split_coverage", {0.3, split_default}}};
     const auto rows = pndt::exp::makeValidationRows(plan, sweep);
-    // raw input, theta_L 0.5, the defaults' map (theta_L 0.7 = split 0.5), split 0.3.
+    // raw input, theta_L 0.5, the defaults' map (theta_L 0.7 = split at its default), split 0.3.
     ASSERT_EQ(rows.size(), 4u);
-    EXPECT_EQ(pndt::exp::validationRowId("split_coverage", 0.5), pndt::exp::validationRowId(0.7));
+    EXPECT_EQ(pndt::exp::validationRowId("split_coverage", split_default), pndt::exp::validationRowId(0.7));
     for (const auto& r : rows)
     {
         if (r.id == pndt::exp::validationRowId("split_coverage", 0.3))
@@ -158,7 +160,7 @@ TEST(ExperimentReport, ValidationSweepsOneParameterAtATime)
         if (r.id == pndt::exp::validationRowId(0.5))
         {
             EXPECT_EQ(r.options.theta_l, 0.5);
-            EXPECT_EQ(r.options.split_coverage, 0.5);
+            EXPECT_EQ(r.options.split_coverage, split_default);
         }
     }
     // Choosing: the best criterion, ties to the default.
@@ -179,5 +181,5 @@ TEST(ExperimentReport, ValidationSweepsOneParameterAtATime)
     // A gain within the tie margin keeps the default.
     set(pndt::exp::validationRowId("split_coverage", 0.3), 50 + 0.5 * pndt::exp::kValidationTieMargin);
     v.runs = {run};
-    EXPECT_EQ(pndt::exp::chooseValue(v, "split_coverage"), 0.5);
+    EXPECT_EQ(pndt::exp::chooseValue(v, "split_coverage"), split_default);
 }
