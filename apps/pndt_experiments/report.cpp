@@ -272,9 +272,11 @@ std::string buildReport(const Plan& plan, const std::vector<RunResult>& runs, co
             "default (theta_L the paper's 0.7; our rules' thresholds the shipped defaults, which an earlier run of "
             "this validation chose). Criterion: the mean of 3D mIoU, 3D PQ, 2D mIoU and 2D PQ over the {} "
             "validation runs; the best value per parameter is chosen if it beats the default's criterion by more "
-            "than {:g} points, else the default. Chosen: **theta_L = {:g}**{}; our rules: split_coverage = {:g}, fragment_merge_frames = "
-            "{:g}, fragment_absorb_ratio = {:g}, label_fill_distance = {:g} m (used by every map row above).\n\n",
-            vs, vseeds, v.plan.frames, cmLabel(v.plan.ablation_voxel), v.runs.size(), kValidationTieMargin, v.chosen,
+            "than {:g} points, else the default. Chosen: **theta_L = {:g}**{}; our rules: split_coverage = {:g}, "
+            "fragment_merge_frames = {:g}, fragment_absorb_ratio = {:g}, label_fill_distance = {:g} m (used by "
+            "every map row above).\n\n",
+            vs, vseeds, v.plan.frames, cmLabel(v.plan.ablation_voxel), v.runs.size(), kValidationTieMargin,
+            v.chosen,
             v.chosen == 0.7 ? " (the paper's default; no tuned rows are added)"
                             : " (rows \"tuned on validation scenes\" in table (b); the paper's 0.7 stays the reference)",
             v.rules.split_coverage, v.rules.fragment_merge_frames, v.rules.fragment_absorb_ratio,
