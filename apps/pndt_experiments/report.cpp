@@ -267,7 +267,7 @@ std::string buildReport(const Plan& plan, const std::vector<RunResult>& runs, co
         for (uint64_t x : v.plan.seeds) vseeds += (vseeds.empty() ? "" : ", ") + std::to_string(x);
         md << "## Validation: thresholds chosen on separate scenes\n\n";
         md << fmt::format(
-            "Scenes {} (seeds {}; never used in the tables above or below, nor to develop the rules), {} frames, "
+            "Scenes {} (seeds {}; never used in the tables above or below), {} frames, "
             "PanopticNDT at {} with network-like input. One parameter is varied at a time, every other at its "
             "default (theta_L the paper's 0.7; our rules' thresholds the shipped defaults, which an earlier run of "
             "this validation chose). Criterion: the mean of 3D mIoU, 3D PQ, 2D mIoU and 2D PQ over the {} "
