@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# What one map option does on generated sequences: each (scene, seed) is generated once, mapped by
+# pndt-map with the defaults and with each override given, and scored in 3D by pndt-eval against
+# its ground truth (overall 3D PQ, and the PQ of one class). A diagnosis tool: thresholds are
+# chosen by pndt-experiments' validation, never from what this prints on the reported scenes.
+#
+# Usage: scripts/threshold_check.sh [-s SCENES] [-e SEEDS] [-v VOXEL] [-c CLASS] [-o DIR] KEY=VALUE ...
+#   KEY is a key of [MAP_PanopticNDTMap_00_creationOpts] (config/panoptic_ndt.ini)
+#   defaults: -s living,office  -e 1,2  -v 0.1  -c pillow  -o out/threshold_check
+# Example (doc/results.md, the pillow check): scripts/threshold_check.sh fragment_merge_frames=3
+# Prints one line per (scene, seed, setting): "scene seed setting  PQ <3D PQ>  <class> PQ <value>".
+set -euo pipefail
+
+REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+BIN=$REPO/build/bin
+scenes=living,office seeds=1,2 voxel=0.1 cls=pillow out=out/threshold_check
+while getopts "s:e:v:c:o:h" opt; do
+    case $opt in
+        s) scenes=$OPTARG ;;
+        e) seeds=$OPTARG ;;
+        v) voxel=$OPTARG ;;
+        c) cls=$OPTARG ;;
+        o) out=$OPTARG ;;
+        *) sed -n 2,11p "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 2 ;;
+    esac
+done
+shift $((OPTIND - 1))
+[ $# -ge 1 ] || { echo "threshold_check: give at least one KEY=VALUE (see -h)" >&2; exit 2; }
+for kv in "$@"; do
+    [[ $kv == *=* ]] || { echo "threshold_check: '$kv' is not KEY=VALUE" >&2; exit 2; }
+done
+for b in pndt-generate pndt-map pndt-eval; do
+    [ -x "$BIN/$b" ] || { echo "threshold_check: $BIN/$b missing: build first (scripts/run_demo.sh)" >&2; exit 1; }
+done
+mkdir -p "$out"
+
+# "PQ 67.0" of the summary line, and the class row's PQ column of pndt-eval's table.
+score() {
+    local eval=$1
+    local pq cpq
+    pq=$(sed -n 2p "$eval" | grep -o 'PQ [0-9.]*' | head -1 | cut -d' ' -f2)
+    cpq=$(awk -F'|' -v c="$cls" '{gsub(/ /, "", $3)} $3 == c {gsub(/ /, "", $7); print $7}' "$eval")
+    echo "PQ ${pq:-?}  $cls PQ ${cpq:--}"
+}
+
+for scene in ${scenes//,/ }; do
+    for seed in ${seeds//,/ }; do
+        seq=$out/${scene}_$seed
+        if [ ! -f "$seq/summary.json" ]; then
+            "$BIN/pndt-generate" --scene "$scene" --seed "$seed" --formats rawlog,gt -o "$seq" > "$seq.generate.log" 2>&1 ||
+                { echo "threshold_check: pndt-generate failed, see $seq.generate.log" >&2; exit 1; }
+        fi
+        rawlog=$(ls "$seq"/*.rawlog)
+        ply=$(find "$seq/gt/ply" -name '*.ply' | head -1)
+        for setting in defaults "$@"; do
+            tag=${setting//[^A-Za-z0-9._=-]/_}
+            map=$seq.map_$tag
+            args=()
+            [ "$setting" = defaults ] || args=(-s "MAP_PanopticNDTMap_00_creationOpts.$setting")
+            rm -rf "$map"
+            "$BIN/pndt-map" "$rawlog" --out "$map" --period 0 --voxel-size "$voxel" "${args[@]}" > "$map.log" 2>&1 ||
+                { echo "threshold_check: pndt-map failed ($setting), see $map.log" >&2; exit 1; }
+            "$BIN/pndt-eval" "$map/map_0000.pndt.gz" --gt-ply "$ply" > "$map.eval" 2>&1 ||
+                { echo "threshold_check: pndt-eval failed ($setting), see $map.eval" >&2; exit 1; }
+            echo "$scene $seed $setting  $(score "$map.eval")"
+        done
+    done
+done
