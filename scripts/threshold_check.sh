@@ -4,8 +4,9 @@
 # its ground truth (overall 3D PQ, and the PQ of one class). A diagnosis tool: thresholds are
 # chosen by pndt-experiments' validation, never from what this prints on the reported scenes.
 #
-# Usage: scripts/threshold_check.sh [-s SCENES] [-e SEEDS] [-v VOXEL] [-c CLASS] [-o DIR] KEY=VALUE ...
-#   KEY is a key of [MAP_PanopticNDTMap_00_creationOpts] (config/panoptic_ndt.ini)
+# Usage: scripts/threshold_check.sh [-s SCENES] [-e SEEDS] [-v VOXEL] [-c CLASS] [-o DIR] SETTING ...
+#   SETTING: KEY=VALUE, or several joined by commas (KEY=V,KEY2=V2: changed together); KEY is a
+#   key of [MAP_PanopticNDTMap_00_creationOpts] (config/panoptic_ndt.ini)
 #   defaults: -s living,office  -e 1,2  -v 0.1  -c pillow  -o out/threshold_check
 # Example (doc/results.md, the pillow check): scripts/threshold_check.sh fragment_merge_frames=3
 # Prints one line per (scene, seed, setting): "scene seed setting  PQ <3D PQ>  <class> PQ <value>".
@@ -21,13 +22,16 @@ while getopts "s:e:v:c:o:h" opt; do
         v) voxel=$OPTARG ;;
         c) cls=$OPTARG ;;
         o) out=$OPTARG ;;
-        *) sed -n 2,11p "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 2 ;;
+        *) sed -n 2,12p "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 2 ;;
     esac
 done
 shift $((OPTIND - 1))
 [ $# -ge 1 ] || { echo "threshold_check: give at least one KEY=VALUE (see -h)" >&2; exit 2; }
-for kv in "$@"; do
-    [[ $kv == *=* ]] || { echo "threshold_check: '$kv' is not KEY=VALUE" >&2; exit 2; }
+for setting in "$@"; do
+    IFS=, read -ra kvs <<< "$setting"
+    for kv in "${kvs[@]}"; do
+        [[ $kv =~ ^[A-Za-z_]+=[^=]+$ ]] || { echo "threshold_check: '$kv' (in '$setting') is not KEY=VALUE" >&2; exit 2; }
+    done
 done
 for b in pndt-generate pndt-map pndt-eval; do
     [ -x "$BIN/$b" ] || { echo "threshold_check: $BIN/$b missing: build first (scripts/run_demo.sh)" >&2; exit 1; }
@@ -56,7 +60,10 @@ for scene in ${scenes//,/ }; do
             tag=${setting//[^A-Za-z0-9._=-]/_}
             map=$seq.map_$tag
             args=()
-            [ "$setting" = defaults ] || args=(-s "MAP_PanopticNDTMap_00_creationOpts.$setting")
+            if [ "$setting" != defaults ]; then
+                IFS=, read -ra kvs <<< "$setting"
+                for kv in "${kvs[@]}"; do args+=(-s "MAP_PanopticNDTMap_00_creationOpts.$kv"); done
+            fi
             rm -rf "$map"
             "$BIN/pndt-map" "$rawlog" --out "$map" --period 0 --voxel-size "$voxel" "${args[@]}" > "$map.log" 2>&1 ||
                 { echo "threshold_check: pndt-map failed ($setting), see $map.log" >&2; exit 1; }
