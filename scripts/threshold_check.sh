@@ -4,25 +4,27 @@
 # its ground truth (overall 3D PQ, and the PQ of one class). A diagnosis tool: thresholds are
 # chosen by pndt-experiments' validation, never from what this prints on the reported scenes.
 #
-# Usage: scripts/threshold_check.sh [-s SCENES] [-e SEEDS] [-v VOXEL] [-c CLASS] [-o DIR] SETTING ...
+# Usage: scripts/threshold_check.sh [-s SCENES] [-e SEEDS] [-n FRAMES] [-v VOXEL] [-c CLASS] [-o DIR] SETTING ...
 #   SETTING: KEY=VALUE, or several joined by commas (KEY=V,KEY2=V2: changed together); KEY is a
 #   key of [MAP_PanopticNDTMap_00_creationOpts] (config/panoptic_ndt.ini)
-#   defaults: -s living,office  -e 1,2  -v 0.1  -c pillow  -o out/threshold_check
+#   defaults: -s living,office  -e 1,2  -n 60  -v 0.1  -c pillow  -o out/threshold_check;
+#   PNDT_BIN: the folder of pndt-generate, pndt-map and pndt-eval (default build/bin)
 # Example (doc/results.md, the pillow check): scripts/threshold_check.sh fragment_merge_frames=3
 # Prints one line per (scene, seed, setting): "scene seed setting  PQ <3D PQ>  <class> PQ <value>".
 set -euo pipefail
 
 REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-BIN=$REPO/build/bin
-scenes=living,office seeds=1,2 voxel=0.1 cls=pillow out=out/threshold_check
-while getopts "s:e:v:c:o:h" opt; do
+BIN=${PNDT_BIN:-$REPO/build/bin}
+scenes=living,office seeds=1,2 frames=60 voxel=0.1 cls=pillow out=out/threshold_check
+while getopts "s:e:n:v:c:o:h" opt; do
     case $opt in
         s) scenes=$OPTARG ;;
         e) seeds=$OPTARG ;;
+        n) frames=$OPTARG ;;
         v) voxel=$OPTARG ;;
         c) cls=$OPTARG ;;
         o) out=$OPTARG ;;
-        *) sed -n 2,12p "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 2 ;;
+        *) sed -n 2,13p "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 2 ;;
     esac
 done
 shift $((OPTIND - 1))
@@ -49,9 +51,9 @@ score() {
 
 for scene in ${scenes//,/ }; do
     for seed in ${seeds//,/ }; do
-        seq=$out/${scene}_$seed
+        seq=$out/${scene}_${seed}_$frames
         if [ ! -f "$seq/summary.json" ]; then
-            "$BIN/pndt-generate" --scene "$scene" --seed "$seed" --formats rawlog,gt -o "$seq" > "$seq.generate.log" 2>&1 ||
+            "$BIN/pndt-generate" --scene "$scene" --seed "$seed" -n "$frames" --formats rawlog,gt -o "$seq" > "$seq.generate.log" 2>&1 ||
                 { echo "threshold_check: pndt-generate failed, see $seq.generate.log" >&2; exit 1; }
         fi
         rawlog=$(ls "$seq"/*.rawlog)
@@ -67,7 +69,8 @@ for scene in ${scenes//,/ }; do
             rm -rf "$map"
             "$BIN/pndt-map" "$rawlog" --out "$map" --period 0 --voxel-size "$voxel" "${args[@]}" > "$map.log" 2>&1 ||
                 { echo "threshold_check: pndt-map failed ($setting), see $map.log" >&2; exit 1; }
-            "$BIN/pndt-eval" "$map/map_0000.pndt.gz" --gt-ply "$ply" > "$map.eval" 2>&1 ||
+            # The sequence is its own GT: a setting that labels (almost) nothing scores 0, not a refusal.
+            "$BIN/pndt-eval" "$map/map_0000.pndt.gz" --gt-ply "$ply" --min-labelled 0 > "$map.eval" 2>&1 ||
                 { echo "threshold_check: pndt-eval failed ($setting), see $map.eval" >&2; exit 1; }
             echo "$scene $seed $setting  $(score "$map.eval")"
         done
