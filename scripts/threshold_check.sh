@@ -10,7 +10,8 @@
 #   defaults: -s living,office  -e 1,2  -n 60  -v 0.1  -c pillow  -o out/threshold_check;
 #   PNDT_BIN: the folder of pndt-generate, pndt-map and pndt-eval (default build/bin)
 # Example (doc/results.md, the pillow check): scripts/threshold_check.sh fragment_merge_frames=3
-# Prints one line per (scene, seed, setting): "scene seed setting  PQ <3D PQ>  <class> PQ <value>".
+# Prints one line per (scene, seed, setting): "scene seed setting  PQ <3D PQ>  <class> PQ <value>";
+# over more than one run, then one per setting: "mean setting  PQ <mean 3D PQ>  over <n> of <runs> runs".
 set -euo pipefail
 
 REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -24,7 +25,7 @@ while getopts "s:e:n:v:c:o:h" opt; do
         v) voxel=$OPTARG ;;
         c) cls=$OPTARG ;;
         o) out=$OPTARG ;;
-        *) sed -n 2,13p "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 2 ;;
+        *) sed -n 2,14p "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 2 ;;
     esac
 done
 shift $((OPTIND - 1))
@@ -39,6 +40,7 @@ for b in pndt-generate pndt-map pndt-eval; do
     [ -x "$BIN/$b" ] || { echo "threshold_check: $BIN/$b missing: build first (scripts/run_demo.sh)" >&2; exit 1; }
 done
 mkdir -p "$out"
+declare -A pq_sum pq_runs
 
 # "PQ 67.0" of the summary line, and the class row's PQ column of pndt-eval's table.
 score() {
@@ -72,7 +74,22 @@ for scene in ${scenes//,/ }; do
             # The sequence is its own GT: a setting that labels (almost) nothing scores 0, not a refusal.
             "$BIN/pndt-eval" "$map/map_0000.pndt.gz" --gt-ply "$ply" --min-labelled 0 > "$map.eval" 2>&1 ||
                 { echo "threshold_check: pndt-eval failed ($setting), see $map.eval" >&2; exit 1; }
-            echo "$scene $seed $setting  $(score "$map.eval")"
+            line=$(score "$map.eval")
+            echo "$scene $seed $setting  $line"
+            read -r _ pq _ <<< "$line"
+            if [[ $pq =~ ^[0-9.]+$ ]]; then
+                pq_sum[$setting]=$(awk -v a="${pq_sum[$setting]:-0}" -v b="$pq" 'BEGIN { print a + b }')
+                pq_runs[$setting]=$((${pq_runs[$setting]:-0} + 1))
+            fi
         done
     done
 done
+# Over several runs, each setting's mean 3D PQ (runs without a score left out, their count shown).
+runs=$(($(wc -w <<< "${scenes//,/ }") * $(wc -w <<< "${seeds//,/ }")))
+if [ "$runs" -gt 1 ]; then
+    for setting in defaults "$@"; do
+        n=${pq_runs[$setting]:-0}
+        mean=$(awk -v s="${pq_sum[$setting]:-0}" -v n="$n" 'BEGIN { if (n) printf "%.2f", s / n; else print "?" }')
+        echo "mean $setting  PQ $mean  over $n of $runs runs"
+    done
+fi

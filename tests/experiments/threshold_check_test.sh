@@ -4,6 +4,7 @@
 #   - the override reaches the map: theta_l = 0.999 leaves no semantic update (3D PQ 0), while the
 #     defaults label the room (PQ > 20);
 #   - several keys in one setting are applied together (their line is printed once);
+#   - over two seeds, each setting's mean line is the mean of its two runs' PQ;
 #   - an unknown key fails with exit 1 and names the setting; a malformed one with exit 2.
 # Usage: threshold_check_test.sh SCRIPT BIN_DIR WORK_DIR
 set -uo pipefail
@@ -27,6 +28,18 @@ rc=$?
 [ $rc -eq 1 ] || fail "unknown key: exit $rc, expected 1"
 echo "$err" | grep -q "pndt-map failed (bogus_key=1)" || fail "unknown key not named: $err"
 grep -q "unknown key 'bogus_key'" "$work"/small_1_8.map_bogus_key=1.log || fail "pndt-map's log does not name the key"
+
+# Two seeds: a line per run and setting, then each setting's mean over the two runs.
+out=$(run -e 1,2 theta_l=0.999) || fail "exit $? on two seeds"
+echo "$out"
+[ "$(echo "$out" | wc -l)" -eq 6 ] || fail "expected 4 run lines and 2 mean lines"
+for s in defaults 'theta_l=0\.999'; do
+    runs=$(echo "$out" | grep -E "^small [12] $s  PQ " | sed -E 's/.*  PQ ([0-9.]+)  pillow.*/\1/' | tr '\n' ' ')
+    mean=$(echo "$out" | grep -E "^mean $s  PQ [0-9.]+  over 2 of 2 runs$" | sed -E 's/.*  PQ ([0-9.]+)  over.*/\1/')
+    [ -n "$mean" ] || fail "no mean line for $s"
+    awk -v r="$runs" -v m="$mean" 'BEGIN { split(r, a, " "); exit !(a[1] != "" && a[2] != "" && (a[1] + a[2]) / 2 - m < 0.006 && m - (a[1] + a[2]) / 2 < 0.006) }' ||
+        fail "mean $mean of $s is not the mean of its runs ($runs)"
+done
 
 run "theta_l" > /dev/null 2>&1
 rc=$?
